@@ -1,0 +1,28 @@
+"""orrc: online learning robust control (Muthirayan and Khargonekar, 2021).
+
+The package behind the book: systems, costs, disturbances, the paper's
+controllers, the closed-loop simulator and the metrics. Plotting lives in
+``orrc.viz`` and is imported only by the book.
+"""
+from ._validate import OrrcValueError
+from .controllers import LQR, Clairvoyant, Controller, Decision, Observation, PreviewRHC, ZeroInput
+from .costs import Cost, CostSequence, QuadraticCost, StageCost
+from .disturbances import Ball, Box
+from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
+from .simulate import Trajectory, simulate
+from .solvers.nlp import SolverWarning
+from .solvers.plan import Plan
+from .systems import LinearSystem, NonlinearSystem, System
+from . import disturbances, examples
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "OrrcValueError", "SolverWarning",
+    "System", "LinearSystem", "NonlinearSystem",
+    "StageCost", "QuadraticCost", "Cost", "CostSequence",
+    "Ball", "Box", "disturbances", "examples",
+    "Controller", "Observation", "Decision", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "Plan",
+    "simulate", "Trajectory",
+    "attenuation_regret", "attenuation_ratio", "dynamic_regret",
+]

@@ -1,0 +1,91 @@
+"""Baselines a reader compares Algorithm 1 against, as controllers of the same simulator.
+
+* :class:`LQR` -- the infinite-horizon discrete LQR/H2 gain u = -K x, no preview
+  (``control.dlqr``);
+* :class:`Clairvoyant` -- the best input sequence in hindsight: it sees the whole
+  disturbance and cost sequence (preview T) and plays the T-step optimum; its cost
+  is the comparator of dynamic regret;
+* :class:`ZeroInput` -- u = 0, the open loop.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .._validate import OrrcValueError, as_int
+from ..costs import QuadraticCost, StageCost
+from ..systems import LinearSystem, System
+from .base import Controller, Decision, Observation
+from .preview import PreviewRHC
+
+
+class LQR(Controller):
+    """u_t = -K x_t with K the infinite-horizon discrete LQR gain for (A, B, Q, R).
+
+    ``control.dlqr`` solves the discrete algebraic Riccati equation. For a
+    :class:`~orrc.NonlinearSystem` the gain of its linearisation at the origin is used.
+    No preview: it never sees w or future costs.
+    """
+
+    name = "LQR"
+
+    def __init__(self, system: System, cost: QuadraticCost):
+        import control
+
+        if not isinstance(cost, QuadraticCost):
+            raise OrrcValueError(f"LQR needs a QuadraticCost; got {type(cost).__name__}")
+        cost.check_dims(system.n, system.m)
+        A, B = (system.A, system.B) if isinstance(system, LinearSystem) else system.linearize()
+        try:
+            K, S, _ = control.dlqr(A, B, cost.Q, cost.R)
+        except Exception as exc:
+            raise OrrcValueError(f"no stabilising LQR gain for this (A, B, Q, R): {exc}") from exc
+        self.K, self.S = np.asarray(K), np.asarray(S)
+        self.system, self.cost = system, cost
+
+    def control(self, obs: Observation) -> Decision:
+        return Decision(u=-self.K @ obs.x)
+
+
+class ZeroInput(Controller):
+    """u_t = 0 (the uncontrolled system)."""
+
+    name = "zero input"
+
+    def __init__(self, m: int, cost: StageCost | None = None):
+        self.m = as_int("m", m, minimum=1)
+        self.cost = cost
+
+    def control(self, obs: Observation) -> Decision:
+        return Decision(u=np.zeros(self.m))
+
+
+class Clairvoyant(Controller):
+    """The optimum in hindsight over T steps: min Σ_{t<T} c_t(x_t, u_t) knowing all of w and c.
+
+    It declares a preview of T (it is not a causal controller), solves the T-step
+    problem once at t = 0 with the same machinery as Algorithm 1 (exact Riccati
+    for LQ, CasADi otherwise) and plays the plan. Its trajectory cost is the
+    comparator of :func:`orrc.dynamic_regret`.
+    """
+
+    name = "clairvoyant optimum"
+
+    def __init__(self, system: System, cost: StageCost, T: int, input_bounds=None, solver_options=None):
+        self.T = as_int("T", T, minimum=1)
+        self.preview_w = self.preview_c = self.T
+        self.cost = cost
+        self._rhc = PreviewRHC(system, cost, self.T, input_bounds=input_bounds, solver_options=solver_options)
+        self._plan = None
+
+    def reset(self) -> None:
+        self._plan = None
+
+    def control(self, obs: Observation) -> Decision:
+        if obs.t == 0:
+            self._plan = self._rhc.plan(obs.x, obs.w_preview, obs.cost_params)
+        elif self._plan is None:
+            raise RuntimeError("Clairvoyant must be run from t = 0 (call simulate)")
+        p = self._plan
+        value = p.value if obs.t == 0 else None
+        return Decision(u=p.inputs[obs.t].copy(), value=value, success=p.success, status=p.status,
+                        iterations=p.iterations if obs.t == 0 else 0)

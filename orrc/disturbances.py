@@ -1,0 +1,167 @@
+"""Disturbance sequences w_0, w_1, ... and disturbance sets W (Assumption 1).
+
+Sequences are arrays of shape (L, n), time along axis 0. A simulation of T steps
+with preview M reads rows 0..T+M-2, so generate ``L = T + M`` rows to give the
+controller a full preview up to the end (see :func:`orrc.simulate`).
+Every random generator takes ``seed`` (an int or a ``numpy.random.Generator``).
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from ._validate import OrrcValueError, as_array, as_float, as_int
+
+KINDS = ("zero", "constant", "sinusoid", "uniform_ball", "uniform_box", "gaussian", "bursts")
+
+
+def _rng(seed):
+    return seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+
+
+def _dims(L, n):
+    return as_int("L", L, minimum=1), as_int("n", n, minimum=1)
+
+
+def zero(L: int, n: int) -> np.ndarray:
+    """w_t = 0."""
+    L, n = _dims(L, n)
+    return np.zeros((L, n))
+
+
+def constant(L: int, n: int, value) -> np.ndarray:
+    """w_t = value (a scalar or a vector of length n) for every t."""
+    L, n = _dims(L, n)
+    value = np.broadcast_to(as_array("value", value), (n,)) if np.ndim(value) == 0 else as_array("value", value, (n,))
+    return np.tile(value, (L, 1))
+
+
+def sinusoid(L: int, n: int, amplitude: float = 1.0, period: float = 20.0, phase: float = 0.0) -> np.ndarray:
+    """w_t = amplitude · sin(2π t / period + phase + 2π i / n) in coordinate i."""
+    L, n = _dims(L, n)
+    amplitude = as_float("amplitude", amplitude, minimum=0.0)
+    period = as_float("period", period, minimum=0.0, strict_min=True)
+    t = np.arange(L)[:, None]
+    return amplitude * np.sin(2 * np.pi * t / period + phase + 2 * np.pi * np.arange(n)[None, :] / n)
+
+
+def uniform_ball(L: int, n: int, radius: float = 1.0, seed=None) -> np.ndarray:
+    """w_t drawn uniformly from the Euclidean ball ‖w‖ <= radius (i.i.d.)."""
+    L, n = _dims(L, n)
+    return Ball(radius, n).sample(L, seed)
+
+
+def uniform_box(L: int, n: int, lo=-1.0, hi=1.0, seed=None) -> np.ndarray:
+    """w_t drawn uniformly from the box lo <= w <= hi (i.i.d.)."""
+    L, n = _dims(L, n)
+    return Box(lo, hi, n).sample(L, seed)
+
+
+def gaussian(L: int, n: int, std: float = 1.0, seed=None) -> np.ndarray:
+    """w_t ~ N(0, std² I) i.i.d. (unbounded: outside Assumption 1, for comparison only)."""
+    L, n = _dims(L, n)
+    std = as_float("std", std, minimum=0.0)
+    return std * _rng(seed).standard_normal((L, n))
+
+
+def bursts(L: int, n: int, magnitude: float = 1.0, every: int = 25, duration: int = 3, seed=None) -> np.ndarray:
+    """Rare large pulses: every ``every`` steps, ``duration`` steps of norm ``magnitude``
+    in a random direction; zero otherwise."""
+    L, n = _dims(L, n)
+    magnitude = as_float("magnitude", magnitude, minimum=0.0)
+    every = as_int("every", every, minimum=1)
+    duration = as_int("duration", duration, minimum=1)
+    rng = _rng(seed)
+    w = np.zeros((L, n))
+    for start in range(every // 2, L, every):
+        d = rng.standard_normal(n)
+        w[start:start + duration] = magnitude * d / np.linalg.norm(d)
+    return w
+
+
+def make(kind: str, L: int, n: int, scale: float = 1.0, seed=None) -> np.ndarray:
+    """A disturbance of a named ``kind`` (one of :data:`KINDS`) with size ``scale``."""
+    if kind not in KINDS:
+        raise OrrcValueError(f"unknown disturbance kind {kind!r}; allowed: {list(KINDS)}")
+    if kind == "zero":
+        return zero(L, n)
+    if kind == "constant":
+        return constant(L, n, scale / np.sqrt(n))
+    if kind == "sinusoid":
+        return sinusoid(L, n, amplitude=scale)
+    if kind == "uniform_ball":
+        return uniform_ball(L, n, radius=scale, seed=seed)
+    if kind == "uniform_box":
+        return uniform_box(L, n, -scale, scale, seed=seed)
+    if kind == "gaussian":
+        return gaussian(L, n, std=scale, seed=seed)
+    return bursts(L, n, magnitude=scale, seed=seed)
+
+
+def energy(w) -> float:
+    """Σ_t ‖w_t‖² of a sequence (L, n)."""
+    w = as_array("w", w, ndim=2)
+    return float(np.sum(w * w))
+
+
+class Ball:
+    """W = {w : ‖w‖₂ <= radius} ⊂ R^n."""
+
+    def __init__(self, radius: float, n: int):
+        self.radius = as_float("radius", radius, minimum=0.0)
+        self.n = as_int("n", n, minimum=1)
+
+    @property
+    def max_norm_sq(self) -> float:
+        """max_{w∈W} ‖w‖² (the w_c² of Assumption 1)."""
+        return self.radius ** 2
+
+    def contains(self, w, tol: float = 1e-9) -> bool:
+        w = as_array("w", w)
+        return bool(np.all(np.linalg.norm(w.reshape(-1, self.n), axis=1) <= self.radius + tol))
+
+    def sample(self, L: int, seed=None) -> np.ndarray:
+        rng = _rng(seed)
+        d = rng.standard_normal((L, self.n))
+        d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+        r = self.radius * rng.random((L, 1)) ** (1.0 / self.n)
+        return d * r
+
+    def __repr__(self):
+        return f"Ball(radius={self.radius}, n={self.n})"
+
+
+class Box:
+    """W = {w : lo <= w <= hi} ⊂ R^n (lo, hi scalars or length-n arrays)."""
+
+    def __init__(self, lo, hi, n: int | None = None):
+        lo, hi = np.atleast_1d(as_array("lo", lo)), np.atleast_1d(as_array("hi", hi))
+        if n is None:
+            n = max(lo.size, hi.size)
+        self.n = as_int("n", n, minimum=1)
+        try:
+            self.lo, self.hi = np.broadcast_to(lo, (self.n,)).copy(), np.broadcast_to(hi, (self.n,)).copy()
+        except ValueError as exc:
+            raise OrrcValueError(f"lo and hi must be scalars or length-{self.n} arrays; got {lo.shape}, {hi.shape}") from exc
+        if np.any(self.lo > self.hi):
+            raise OrrcValueError(f"need lo <= hi in every coordinate; got lo={self.lo}, hi={self.hi}")
+
+    @property
+    def max_norm_sq(self) -> float:
+        """max_{w∈W} ‖w‖² (attained at a vertex)."""
+        return float(np.sum(np.maximum(self.lo ** 2, self.hi ** 2)))
+
+    def vertices(self) -> np.ndarray:
+        """The 2^n corners of the box, shape (2^n, n)."""
+        return np.array(list(itertools.product(*zip(self.lo, self.hi))), dtype=float)
+
+    def contains(self, w, tol: float = 1e-9) -> bool:
+        w = as_array("w", w).reshape(-1, self.n)
+        return bool(np.all(w >= self.lo - tol) and np.all(w <= self.hi + tol))
+
+    def sample(self, L: int, seed=None) -> np.ndarray:
+        return self.lo + (self.hi - self.lo) * _rng(seed).random((L, self.n))
+
+    def __repr__(self):
+        return f"Box(lo={self.lo}, hi={self.hi})"

@@ -1,0 +1,105 @@
+"""Named example problems used by the book, the tests and the benchmarks.
+
+Each function returns an :class:`Example` bundling a system, a stage cost, an
+initial state, input bounds (or None) and a suggested horizon M. All disturbances
+are additive (x_{t+1} = f(x_t, u_t) + w_t), as in the paper's examples.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ._validate import as_float
+from .costs import QuadraticCost, StageCost
+from .systems import LinearSystem, NonlinearSystem, System
+
+
+@dataclass
+class Example:
+    name: str
+    system: System
+    cost: StageCost
+    x0: np.ndarray
+    M: int
+    input_bounds: tuple | None
+    description: str
+
+    def __repr__(self):
+        return f"Example({self.name!r}: {self.description})"
+
+
+def scalar_unstable(a: float = 2.0, b: float = 1.0, q: float = 1.0, r: float = 1.0) -> Example:
+    """x_{t+1} = a x_t + b u_t + w_t with |a| > 1 (open-loop unstable), c = q x² + r u²."""
+    a, b = as_float("a", a), as_float("b", b)
+    return Example("scalar_unstable", LinearSystem([[a]], [[b]], name=f"x+ = {a:g}x + {b:g}u + w"),
+                   QuadraticCost([[q]], [[r]]), np.array([1.0]), 5, None,
+                   f"scalar system x+ = {a:g} x + {b:g} u + w, open-loop unstable")
+
+
+def double_integrator(dt: float = 0.1, q_vel: float = 0.1, r: float = 0.1) -> Example:
+    """Position/velocity of a unit mass pushed by u, sampled with period dt (exact ZOH)."""
+    dt = as_float("dt", dt, minimum=0.0, strict_min=True)
+    A = np.array([[1.0, dt], [0.0, 1.0]])
+    B = np.array([[0.5 * dt * dt], [dt]])
+    return Example("double_integrator", LinearSystem(A, B, name="double integrator"),
+                   QuadraticCost(np.diag([1.0, q_vel]), [[r]]), np.array([1.0, 0.0]), 10, None,
+                   f"double integrator, dt = {dt:g}")
+
+
+def two_mass_spring(dt: float = 0.1, k: float = 1.0, c: float = 0.05) -> Example:
+    """Two unit masses joined by a spring (k) and damper (c), force on the first: n = 4, m = 1.
+
+    State (p1, p2, v1, v2); continuous dynamics discretised by ``control.sample_system`` (ZOH).
+    """
+    import control
+
+    Ac = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [-k, k, -c, c], [k, -k, c, -c]], dtype=float)
+    Bc = np.array([[0.0], [0.0], [1.0], [0.0]])
+    sysd = control.sample_system(control.ss(Ac, Bc, np.eye(4), np.zeros((4, 1))), dt)
+    Q = np.diag([1.0, 1.0, 0.1, 0.1])
+    return Example("two_mass_spring", LinearSystem.from_statespace(sysd, name="two masses and a spring"),
+                   QuadraticCost(Q, [[0.1]]), np.array([1.0, -1.0, 0.0, 0.0]), 20, None,
+                   "two masses, spring and damper, force on one mass (n = 4)")
+
+
+def inverted_pendulum(dt: float = 0.05, g_over_l: float = 9.81, friction: float = 0.1,
+                      u_max: float = 20.0) -> Example:
+    """Pendulum about its upright position θ = 0 (nonlinear, open-loop unstable), Euler-sampled:
+
+        θ_{t+1} = θ_t + dt ω_t,   ω_{t+1} = ω_t + dt (g/l sin θ_t − friction ω_t + u_t),  plus w_t.
+
+    Cost c = 10 θ² + ω² + 0.1 u², input bounds |u| <= u_max.
+    """
+    dt = as_float("dt", dt, minimum=0.0, strict_min=True)
+
+    def f(x, u, w):
+        return ca.vertcat(x[0] + dt * x[1],
+                          x[1] + dt * (g_over_l * ca.sin(x[0]) - friction * x[1] + u[0])) + w
+
+    return Example("inverted_pendulum", NonlinearSystem(f, 2, 1, name="inverted pendulum"),
+                   QuadraticCost(np.diag([10.0, 1.0]), [[0.1]]), np.array([0.5, 0.0]), 20,
+                   (-u_max, u_max), f"inverted pendulum (upright), dt = {dt:g}, |u| <= {u_max:g}")
+
+
+def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0) -> Example:
+    """Van der Pol oscillator (unstable origin, stable limit cycle), Euler-sampled:
+
+        x1+ = x1 + dt x2,  x2+ = x2 + dt (mu (1 − x1²) x2 − x1 + u),  plus w.
+
+    Cost c = x1² + x2² + 0.1 u², |u| <= u_max.
+    """
+    dt = as_float("dt", dt, minimum=0.0, strict_min=True)
+
+    def f(x, u, w):
+        return ca.vertcat(x[0] + dt * x[1],
+                          x[1] + dt * (mu * (1 - x[0] ** 2) * x[1] - x[0] + u[0])) + w
+
+    return Example("van_der_pol", NonlinearSystem(f, 2, 1, name="Van der Pol oscillator"),
+                   QuadraticCost(np.eye(2), [[0.1]]), np.array([1.5, 0.0]), 15,
+                   (-u_max, u_max), f"Van der Pol oscillator, mu = {mu:g}, dt = {dt:g}, |u| <= {u_max:g}")
+
+
+ALL = {f.__name__: f for f in (scalar_unstable, double_integrator, two_mass_spring,
+                               inverted_pendulum, van_der_pol)}

@@ -1,0 +1,4 @@
+"""Solvers of the M-step problems. They know nothing of time: x, W, costs in, plan out."""
+from .plan import Plan
+
+__all__ = ["Plan"]

@@ -1,0 +1,122 @@
+"""Exact finite-horizon LQ with previewed additive disturbances (Algorithm 1, linear case).
+
+Problem (Eq. 3 of the paper for f linear and c quadratic, no terminal cost unless
+``Pf`` is given):
+
+    V_M(x, W) = min_{u_0..u_{M-1}} Σ_{j=0}^{M-1} x_jᵀ Q_j x_j + u_jᵀ R_j u_j  (+ x_Mᵀ Pf x_M)
+               s.t. x_{j+1} = A x_j + B u_j + w_j,  x_0 = x.
+
+Solved by the backward Riccati recursion with an affine feed-forward term: with
+V_j(x) = xᵀ P_j x + 2 q_jᵀ x + r_j, S_j = R_j + Bᵀ P_{j+1} B,
+
+    K_j = S_j⁻¹ Bᵀ P_{j+1} A,      P_j = Q_j + Aᵀ P_{j+1} (A - B K_j),
+    h_j = P_{j+1} w_j + q_{j+1},   u_j = -K_j x_j - S_j⁻¹ Bᵀ h_j,
+    q_j = (A - B K_j)ᵀ h_j,         r_j = r_{j+1} + w_jᵀP_{j+1}w_j + 2 q_{j+1}ᵀ w_j - h_jᵀ B S_j⁻¹ Bᵀ h_j.
+
+For a time-invariant cost, :class:`LQPreviewLaw` carries the recursion through
+symbolically in W, which gives the exact closed form of the first input and of
+the value as a quadratic form in (x, W):
+
+    u_0 = -K x - L vec(W),      V_M(x, W) = [x; vec W]ᵀ H [x; vec W].
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+def _backward_gains(A, B, Qs, Rs, Pf):
+    """P_0..P_M, K_0..K_{M-1} and S_j⁻¹ for time-varying Q_j, R_j (the Riccati part)."""
+    M = len(Qs)
+    n = A.shape[0]
+    P = [None] * (M + 1)
+    K = [None] * M
+    Sinv = [None] * M
+    P[M] = np.zeros((n, n)) if Pf is None else Pf
+    for j in range(M - 1, -1, -1):
+        BtP = B.T @ P[j + 1]
+        S = Rs[j] + BtP @ B
+        Sinv[j] = np.linalg.inv(S)
+        K[j] = Sinv[j] @ (BtP @ A)
+        Pj = Qs[j] + A.T @ P[j + 1] @ (A - B @ K[j])
+        P[j] = 0.5 * (Pj + Pj.T)
+    return P, K, Sinv
+
+
+def solve(A, B, Qs, Rs, x, W, Pf=None):
+    """Solve the M-step problem exactly for one (x, W): returns (U (M,m), X (M+1,n), V_M).
+
+    ``Qs`` (M, n, n), ``Rs`` (M, m, m) are the stage weights of the horizon
+    (time-varying allowed); ``W`` (M, n) the previewed disturbances.
+    """
+    M = len(Qs)
+    P, K, Sinv = _backward_gains(A, B, Qs, Rs, Pf)
+    n, m = B.shape
+    q = np.zeros(n)
+    r = 0.0
+    k = np.zeros((M, m))
+    for j in range(M - 1, -1, -1):
+        w = W[j]
+        h = P[j + 1] @ w + q
+        Bth = B.T @ h
+        k[j] = Sinv[j] @ Bth
+        r = r + w @ P[j + 1] @ w + 2 * q @ w - Bth @ k[j]
+        q = (A - B @ K[j]).T @ h
+    X = np.empty((M + 1, n))
+    U = np.empty((M, m))
+    X[0] = x
+    for j in range(M):
+        U[j] = -K[j] @ X[j] - k[j]
+        X[j + 1] = A @ X[j] + B @ U[j] + W[j]
+    value = float(x @ P[0] @ x + 2 * q @ x + r)
+    return U, X, value
+
+
+class LQPreviewLaw:
+    """The exact receding-horizon law of a time-invariant LQ problem with preview M.
+
+    Attributes
+    ----------
+    K : (m, n)         feedback on x_t
+    L : (m, M n)       feed-forward on vec(w_t, ..., w_{t+M-1})
+    H : (n+Mn, n+Mn)   V_M(x, W) = zᵀ H z with z = [x; vec W]
+    P : list of P_j    the Riccati matrices P_0..P_M
+    """
+
+    def __init__(self, A, B, Q, R, M, Pf=None):
+        n, m = B.shape
+        self.A, self.B, self.M, self.n, self.m = A, B, M, n, m
+        Qs = np.broadcast_to(Q, (M, n, n))
+        Rs = np.broadcast_to(R, (M, m, m))
+        P, K, Sinv = _backward_gains(A, B, Qs, Rs, Pf)
+        N = M * n
+        C = np.zeros((n, N))          # q_j = C_j vec W
+        D = np.zeros((N, N))          # r_j = vec Wᵀ D_j vec W
+        for j in range(M - 1, -1, -1):
+            sl = slice(j * n, (j + 1) * n)
+            h = C.copy()
+            h[:, sl] += P[j + 1]          # h_j = P_{j+1} w_j + q_{j+1}
+            Bth = B.T @ h
+            D[sl, :] += C                 # + 2 q_{j+1}ᵀ w_j (split symmetrically)
+            D[:, sl] += C.T
+            D[sl, sl] += P[j + 1]
+            D -= Bth.T @ Sinv[j] @ Bth
+            if j == 0:
+                self.L = Sinv[0] @ Bth
+            C = (A - B @ K[j]).T @ h
+        self.K = K[0]
+        self.P = P
+        H = np.zeros((n + N, n + N))
+        H[:n, :n] = P[0]
+        H[:n, n:] = C
+        H[n:, :n] = C.T
+        H[n:, n:] = 0.5 * (D + D.T)
+        self.H = H
+
+    def first_input(self, x, W):
+        """κ_M(x) = -K x - L vec W."""
+        return -self.K @ x - self.L @ W.reshape(-1)
+
+    def value(self, x, W) -> float:
+        """V_M(x, W) = [x; vec W]ᵀ H [x; vec W]."""
+        z = np.concatenate([x, W.reshape(-1)])
+        return float(z @ self.H @ z)

@@ -1,0 +1,127 @@
+"""The M-step problem of Algorithm 1 for general systems and costs, with CasADi + IPOPT.
+
+    min_{ũ_0..ũ_{M-1} ∈ U}  Σ_{j=0}^{M-1} c(x̃_j, ũ_j; p_j)  (+ terminal(x̃_M), an extension)
+    s.t.  x̃_{j+1} = f(x̃_j, ũ_j, w_j),  x̃_0 = x,   (x̃_j ∈ X, an extension)
+
+is transcribed once per (system, cost family, M) by multiple shooting into a
+``casadi.nlpsol`` whose parameters are (x, vec W, vec P): the previewed state,
+disturbances and cost parameters. Each call is warm-started from the given guess
+(the receding-horizon controller passes its shifted previous plan).
+"""
+from __future__ import annotations
+
+import time
+import warnings
+
+import casadi as ca
+import numpy as np
+
+from ..systems import System
+from ..costs import StageCost
+from .plan import Plan
+
+
+class SolverWarning(UserWarning):
+    """A numerical solver did not report success; the result says what was used instead."""
+
+
+DEFAULT_IPOPT = {
+    "ipopt.print_level": 0,
+    "ipopt.sb": "yes",
+    "print_time": False,
+    "ipopt.tol": 1e-9,
+    "ipopt.acceptable_tol": 1e-6,
+    "ipopt.max_iter": 500,
+}
+
+
+class ShootingNLP:
+    """Multiple-shooting transcription of the M-step problem, built once.
+
+    ``input_bounds``/``state_bounds``: (lo, hi) arrays of length m / n (±inf allowed).
+    ``terminal``: a callable ``terminal(x)`` in CasADi operations, or None.
+    ``solver_options``: extra options passed to ``casadi.nlpsol`` (IPOPT by default).
+    """
+
+    def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
+                 state_bounds=None, terminal=None, solver: str = "ipopt", solver_options=None):
+        n, m, npar = system.n, system.m, cost.n_params
+        self.system, self.cost, self.M = system, cost, M
+        self.n, self.m = n, m
+        X = ca.SX.sym("X", n, M)        # x̃_1 .. x̃_M
+        U = ca.SX.sym("U", m, M)
+        x0 = ca.SX.sym("x0", n)
+        W = ca.SX.sym("W", n, M)
+        Pp = ca.SX.sym("P", npar, M)
+        J = 0
+        g = []
+        xj = x0
+        for j in range(M):
+            J += cost.expr(xj, U[:, j], Pp[:, j])
+            g.append(X[:, j] - system.symbolic(xj, U[:, j], W[:, j]))
+            xj = X[:, j]
+        if terminal is not None:
+            J += terminal(xj)
+        z = ca.vertcat(ca.vec(U), ca.vec(X))
+        p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp))
+        opts = dict(DEFAULT_IPOPT) if solver == "ipopt" else {}
+        opts.update(solver_options or {})
+        self.solver = ca.nlpsol("rhc", solver, {"x": z, "f": J, "g": ca.vertcat(*g), "p": p}, opts)
+        self.solver_name = solver
+        ulo, uhi = (np.full(m, -np.inf), np.full(m, np.inf)) if input_bounds is None else input_bounds
+        xlo, xhi = (np.full(n, -np.inf), np.full(n, np.inf)) if state_bounds is None else state_bounds
+        self.lbz = np.concatenate([np.tile(ulo, M), np.tile(xlo, M)])
+        self.ubz = np.concatenate([np.tile(uhi, M), np.tile(xhi, M)])
+        self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
+        self.ng = n * M
+        self._lam_g = None
+
+    def rollout(self, x, U, W):
+        """States x̃_0..x̃_M under inputs U (M, m) and disturbances W (M, n)."""
+        X = np.empty((self.M + 1, self.n))
+        X[0] = x
+        f = self.system.function if hasattr(self.system, "function") else None
+        for j in range(self.M):
+            if f is None:
+                X[j + 1] = self.system.A @ X[j] + self.system.B @ U[j] + W[j]
+            else:
+                X[j + 1] = np.asarray(f(X[j], U[j], W[j])).ravel()
+        return X
+
+    def solve(self, x, W, P, guess_U=None, guess_X=None) -> Plan:
+        """Solve from state x (n,) with preview W (M, n) and cost parameters P (M, n_params).
+
+        On solver failure a :class:`SolverWarning` is issued and the plan's
+        ``success`` is False, with ``fallback`` = "solver's last iterate".
+        """
+        M, n, m = self.M, self.n, self.m
+        if guess_U is None:
+            guess_U = np.clip(np.zeros((M, m)), *self.input_bounds)
+        if guess_X is None:
+            with np.errstate(all="ignore"):
+                guess_X = self.rollout(x, guess_U, W)
+            if not np.all(np.isfinite(guess_X)):
+                guess_X = np.tile(x, (M + 1, 1))
+        z0 = np.concatenate([guess_U.reshape(-1), guess_X[1:].reshape(-1)])
+        p = np.concatenate([x, W.reshape(-1), P.reshape(-1)])
+        t0 = time.perf_counter()
+        sol = self.solver(x0=z0, p=p, lbx=self.lbz, ubx=self.ubz, lbg=0.0, ubg=0.0)
+        elapsed = time.perf_counter() - t0
+        stats = self.solver.stats()
+        status = str(stats.get("return_status", "unknown"))
+        success = bool(stats.get("success", False))
+        zopt = np.asarray(sol["x"]).ravel()
+        U = zopt[: M * m].reshape(M, m)
+        X = np.vstack([x, zopt[M * m:].reshape(M, n)])
+        value = float(sol["f"])
+        fallback = None
+        if not success or not np.all(np.isfinite(zopt)):
+            success = False
+            fallback = "solver's last iterate"
+            if not np.all(np.isfinite(U)):
+                U = guess_U.copy()
+                fallback = "initial guess (the solver returned non-finite values)"
+            warnings.warn(f"NLP solver ({self.solver_name}) did not converge: status {status!r}; "
+                          f"using the {fallback}", SolverWarning, stacklevel=3)
+        return Plan(inputs=U, states=X, value=value, success=success, status=status,
+                    iterations=int(stats.get("iter_count", 0)), solve_time=elapsed, fallback=fallback)

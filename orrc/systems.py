@@ -1,0 +1,149 @@
+"""Dynamical systems x_{t+1} = f(x_t, u_t, w_t) (Eq. 1 of the paper, θ known).
+
+Two kinds:
+
+* :class:`LinearSystem` -- x_{t+1} = A x_t + B u_t + w_t, the additive-disturbance
+  linear system used by every linear example (exact Riccati solvers apply);
+* :class:`NonlinearSystem` -- a user function ``f(x, u, w)`` written with CasADi
+  operations, so the same expression is simulated numerically and optimised
+  symbolically by the receding-horizon solvers.
+
+Both expose ``n`` (states), ``m`` (inputs), ``step(x, u, w)`` (numeric) and
+``symbolic(x, u, w)`` (CasADi). The disturbance has the dimension of the state,
+as in the paper.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import casadi as ca
+import numpy as np
+
+from ._validate import OrrcValueError, as_array, as_int
+
+
+class System:
+    """Common interface; see :class:`LinearSystem` and :class:`NonlinearSystem`."""
+
+    n: int
+    m: int
+    name: str
+
+    def symbolic(self, x, u, w):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def step(self, x, u, w) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def check_step_args(self, x, u, w):
+        x = as_array("x", x, (self.n,))
+        u = as_array("u", u, (self.m,))
+        w = as_array("w", w, (self.n,))
+        return x, u, w
+
+
+class LinearSystem(System):
+    """x_{t+1} = A x_t + B u_t + w_t (Eq. 1 with f linear and w additive).
+
+    Parameters
+    ----------
+    A : (n, n) array
+    B : (n, m) array (a 1-D array is read as a single input column)
+    name : optional label used in plots.
+    """
+
+    def __init__(self, A, B, name: str = "linear system"):
+        A = np.atleast_2d(as_array("A", A))
+        if A.ndim != 2 or A.shape[0] != A.shape[1]:
+            raise OrrcValueError(f"A must be a square matrix; got shape {A.shape}")
+        B = as_array("B", B)
+        if B.ndim == 1:
+            B = B.reshape(-1, 1)
+        if B.ndim != 2 or B.shape[0] != A.shape[0]:
+            raise OrrcValueError(
+                f"B must have shape ({A.shape[0]}, m) to match A of shape {A.shape}; got shape {B.shape}")
+        self.A, self.B = A, B
+        self.n, self.m = B.shape
+        self.name = name
+
+    @classmethod
+    def from_statespace(cls, sys, name: str | None = None) -> "LinearSystem":
+        """Build from a discrete-time python-control ``StateSpace`` (uses its A and B).
+
+        The disturbance enters additively on the state, as in the paper; the
+        ``StateSpace``'s C and D are ignored (the state is observed).
+        """
+        import control
+
+        if not isinstance(sys, control.StateSpace):
+            raise OrrcValueError(f"sys must be a control.StateSpace; got {type(sys).__name__}")
+        if not sys.isdtime(strict=True):
+            raise OrrcValueError(
+                "sys must be a discrete-time StateSpace (dt > 0 or True); got a continuous-time "
+                "system: discretise it first, e.g. with control.sample_system(sys, Ts)")
+        return cls(np.asarray(sys.A), np.asarray(sys.B), name=name or "linear system")
+
+    def symbolic(self, x, u, w):
+        return ca.mtimes(ca.DM(self.A), x) + ca.mtimes(ca.DM(self.B), u) + w
+
+    def step(self, x, u, w) -> np.ndarray:
+        """One step of the dynamics (validated)."""
+        x, u, w = self.check_step_args(x, u, w)
+        return self.A @ x + self.B @ u + w
+
+    def __repr__(self):
+        return f"LinearSystem(n={self.n}, m={self.m}, name={self.name!r})"
+
+
+class NonlinearSystem(System):
+    """x_{t+1} = f(x_t, u_t, w_t) with ``f`` written in CasADi operations.
+
+    ``f(x, u, w)`` receives CasADi column vectors (``x`` of length ``n_states``,
+    ``u`` of length ``n_inputs``, ``w`` of length ``n_states``) and returns the next
+    state, e.g. ``ca.vertcat(x[0] + dt * x[1], x[1] + dt * (ca.sin(x[0]) + u[0])) + w``.
+    It is traced once into a ``casadi.Function``; numeric steps evaluate that function.
+    """
+
+    def __init__(self, f: Callable, n_states: int, n_inputs: int, name: str = "nonlinear system"):
+        if not callable(f):
+            raise OrrcValueError(f"f must be callable f(x, u, w); got {type(f).__name__}")
+        self.n = as_int("n_states", n_states, minimum=1)
+        self.m = as_int("n_inputs", n_inputs, minimum=1)
+        self.name = name
+        self._f = f
+        x, u, w = ca.SX.sym("x", self.n), ca.SX.sym("u", self.m), ca.SX.sym("w", self.n)
+        try:
+            out = ca.vec(ca.SX(f(x, u, w)))
+        except Exception as exc:  # the user function is not CasADi-traceable
+            raise OrrcValueError(
+                "f(x, u, w) must be written with CasADi operations (ca.sin, ca.vertcat, ...); "
+                f"tracing it failed with: {exc}") from exc
+        if out.shape != (self.n, 1):
+            raise OrrcValueError(
+                f"f(x, u, w) must return a vector of length n_states={self.n}; got shape {out.shape}")
+        self.function = ca.Function("f", [x, u, w], [out], ["x", "u", "w"], ["x_next"])
+
+    def symbolic(self, x, u, w):
+        return self.function(x, u, w)
+
+    def step(self, x, u, w) -> np.ndarray:
+        """One step of the dynamics (validated); raises if the result is not finite."""
+        x, u, w = self.check_step_args(x, u, w)
+        out = np.asarray(self.function(x, u, w)).ravel()
+        if not np.all(np.isfinite(out)):
+            raise FloatingPointError(
+                f"{self.name}: f(x, u, w) is not finite at x={x}, u={u}, w={w} (the state diverged)")
+        return out
+
+    def linearize(self, x=None, u=None):
+        """Jacobians (A, B) of f at (x, u, w=0), default the origin: the local linear model."""
+        x = np.zeros(self.n) if x is None else as_array("x", x, (self.n,))
+        u = np.zeros(self.m) if u is None else as_array("u", u, (self.m,))
+        xs, us, ws = ca.SX.sym("x", self.n), ca.SX.sym("u", self.m), ca.SX.sym("w", self.n)
+        fx = self.function(xs, us, ws)
+        jac = ca.Function("jac", [xs, us, ws], [ca.jacobian(fx, xs), ca.jacobian(fx, us)])
+        A, B = jac(x, u, np.zeros(self.n))
+        return np.asarray(A), np.asarray(B)
+
+    def __repr__(self):
+        return f"NonlinearSystem(n={self.n}, m={self.m}, name={self.name!r})"

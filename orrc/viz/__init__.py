@@ -1,0 +1,4 @@
+"""Plotting and interactive figures for the book (imports matplotlib; not loaded by ``import orrc``)."""
+from .explore import Explorer, explore, figure_to_png
+
+__all__ = ["explore", "Explorer", "figure_to_png"]

@@ -1,0 +1,159 @@
+"""Algorithm 1 (PreviewRHC) against independent computations."""
+import casadi as ca
+import control
+import numpy as np
+import pytest
+
+import orrc
+from conftest import random_lq
+
+
+def batch_optimum(A, B, Q, R, M, x, W):
+    """The M-step optimum by condensing: x_j = A^j x + Σ A^{j-1-i}(B u_i + w_i); one linear solve."""
+    n, m = B.shape
+    Phi = np.zeros((M * n, n))
+    Gu = np.zeros((M * n, M * m))
+    Gw = np.zeros((M * n, M * n))
+    for j in range(M):  # rows for x_j, j = 0..M-1 (x_M is not costed)
+        Phi[j * n:(j + 1) * n] = np.linalg.matrix_power(A, j)
+        for i in range(j):
+            Aji = np.linalg.matrix_power(A, j - 1 - i)
+            Gu[j * n:(j + 1) * n, i * m:(i + 1) * m] = Aji @ B
+            Gw[j * n:(j + 1) * n, i * n:(i + 1) * n] = Aji
+    Qb, Rb = np.kron(np.eye(M), Q), np.kron(np.eye(M), R)
+    c = Phi @ x + Gw @ W.reshape(-1)
+    U = np.linalg.solve(Gu.T @ Qb @ Gu + Rb, -Gu.T @ Qb @ c)
+    X = c + Gu @ U
+    return U.reshape(M, m), float(X @ Qb @ X + U @ Rb @ U)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_lq_plan_is_the_exact_M_step_optimum(seed):
+    rng = np.random.default_rng(seed)
+    n, m, M = rng.integers(1, 4), rng.integers(1, 3), rng.integers(1, 8)
+    A, B, Q, R = random_lq(rng, n, m)
+    rhc = orrc.PreviewRHC(orrc.LinearSystem(A, B), orrc.QuadraticCost(Q, R), M)
+    x, W = rng.standard_normal(n), rng.standard_normal((M, n))
+    plan = rhc.plan(x, W)
+    U_ref, V_ref = batch_optimum(A, B, Q, R, M, x, W)
+    assert rhc.solver == "lq"
+    np.testing.assert_allclose(plan.inputs, U_ref, rtol=1e-8, atol=1e-9)
+    assert plan.value == pytest.approx(V_ref, rel=1e-9, abs=1e-12)
+
+
+def test_lq_value_is_the_quadratic_form_used_in_closed_loop(rng):
+    A, B, Q, R = random_lq(rng, 3, 1)
+    sysm, cost = orrc.LinearSystem(A, B), orrc.QuadraticCost(Q, R)
+    rhc = orrc.PreviewRHC(sysm, cost, 6)
+    w = rng.standard_normal((40, 3)) * 0.1
+    traj = orrc.simulate(sysm, rhc, np.ones(3), w, 30)
+    for t in (0, 7, 29):
+        plan = rhc.plan(traj.x[t], w[t:t + 6])
+        assert traj.values[t] == pytest.approx(plan.value, rel=1e-9)
+        np.testing.assert_allclose(traj.u[t], plan.inputs[0], rtol=1e-9, atol=1e-12)
+
+
+def test_preview_law_tends_to_the_lqr_gain_as_M_grows():
+    ex = orrc.examples.double_integrator()
+    K_lqr, _, _ = control.dlqr(ex.system.A, ex.system.B, ex.cost.Q, ex.cost.R)
+    errors = []
+    for M in (2, 5, 20, 80):
+        law = orrc.PreviewRHC(ex.system, ex.cost, M).law
+        errors.append(np.abs(law.K - K_lqr).max())
+    assert errors[-1] < 1e-8
+    assert all(a >= b - 1e-12 for a, b in zip(errors, errors[1:]))  # monotone approach
+
+
+def test_pendulum_plan_matches_a_separately_built_casadi_optimum():
+    ex = orrc.examples.inverted_pendulum()
+    M = 15
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds)
+    W = 0.05 * np.random.default_rng(3).standard_normal((M, 2))
+    x0 = np.array([0.4, -0.3])
+    plan = rhc.plan(x0, W)
+    # independent: single shooting with casadi.Opti, written from the example's equations
+    opti = ca.Opti()
+    U = opti.variable(M)
+    x = ca.DM(x0)
+    J = 0
+    dt = 0.05
+    for j in range(M):
+        J += 10 * x[0] ** 2 + x[1] ** 2 + 0.1 * U[j] ** 2
+        x = ca.vertcat(x[0] + dt * x[1], x[1] + dt * (9.81 * ca.sin(x[0]) - 0.1 * x[1] + U[j])) + W[j]
+    opti.minimize(J)
+    opti.subject_to(opti.bounded(-20, U, 20))
+    opti.solver("ipopt", {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-10})
+    sol = opti.solve()
+    assert plan.success and rhc.solver == "nlp"
+    assert plan.value == pytest.approx(float(sol.value(J)), rel=1e-6)
+    np.testing.assert_allclose(plan.inputs[:, 0], sol.value(U), atol=1e-4)
+
+
+def test_input_bounds_are_respected_in_closed_loop():
+    ex = orrc.examples.inverted_pendulum(u_max=3.0)
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds)
+    traj = orrc.simulate(ex.system, rhc, np.array([0.3, 0.0]), np.zeros((40, 2)), 30)
+    assert np.all(np.abs(traj.u) <= 3.0 + 1e-7)
+    assert np.any(np.abs(traj.u) > 2.9)  # the bound is active at the start
+    assert traj.n_failures == 0
+
+
+def test_nlp_path_agrees_with_lq_path_on_a_linear_problem(rng):
+    A, B, Q, R = random_lq(rng, 2, 1)
+    sysm, cost = orrc.LinearSystem(A, B), orrc.QuadraticCost(Q, R)
+    x, W = rng.standard_normal(2), rng.standard_normal((6, 2))
+    p_lq = orrc.PreviewRHC(sysm, cost, 6).plan(x, W)
+    p_nlp = orrc.PreviewRHC(sysm, cost, 6, solver="nlp").plan(x, W)
+    assert p_nlp.value == pytest.approx(p_lq.value, rel=1e-7)
+
+
+def test_time_varying_costs_reach_the_controller_through_its_preview_only(rng):
+    A, B, Q, R = random_lq(rng, 2, 1)
+    sysm, cost = orrc.LinearSystem(A, B), orrc.QuadraticCost(Q, R)
+    T, M = 25, 4
+    scales = 1 + rng.random(T + M)
+    seq = cost.scaled(scales)
+    w = 0.1 * rng.standard_normal((T + M, 2))
+    rhc = orrc.PreviewRHC(sysm, cost, M)
+    traj = orrc.simulate(sysm, rhc, np.ones(2), w, T, costs=seq)
+    # the realised stage cost is c_t with the t-th scale
+    for t in (0, 10, 24):
+        x, u = traj.x[t], traj.u[t]
+        assert traj.costs[t] == pytest.approx(scales[t] * x @ Q @ x + u @ R @ u)
+        # and u_t is the optimum of the problem with c_t..c_{t+M-1}
+        Qs = scales[t:t + M, None, None] * Q
+        U, _, V = orrc.solvers.lq.solve(A, B, Qs, [R] * M, x, w[t:t + M])
+        np.testing.assert_allclose(u, U[0], rtol=1e-9)
+        assert traj.values[t] == pytest.approx(V)
+
+
+def test_terminal_cost_extension_matches_infinite_horizon_lqr():
+    ex = orrc.examples.double_integrator()
+    _, S, _ = control.dlqr(ex.system.A, ex.system.B, ex.cost.Q, ex.cost.R)
+    K, _, _ = control.dlqr(ex.system.A, ex.system.B, ex.cost.Q, ex.cost.R)
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 3, terminal_cost=S)
+    np.testing.assert_allclose(rhc.law.K, K, atol=1e-9)  # the cost-to-go makes M = 3 exact
+
+
+def test_state_bounds_extension_keeps_the_plan_inside():
+    ex = orrc.examples.double_integrator()
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 15, state_bounds=([-np.inf, -0.3], [np.inf, 0.3]))
+    plan = rhc.plan(np.array([1.0, 0.0]), np.zeros((15, 2)))
+    assert plan.success and np.all(np.abs(plan.states[1:, 1]) <= 0.3 + 1e-7)
+    free = orrc.PreviewRHC(ex.system, ex.cost, 15).plan(np.array([1.0, 0.0]), np.zeros((15, 2)))
+    assert np.abs(free.states[:, 1]).max() > 0.3  # the constraint matters
+    assert plan.value > free.value
+
+
+def test_solver_failure_is_reported_warned_and_falls_back():
+    ex = orrc.examples.inverted_pendulum()
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds,
+                          solver_options={"ipopt.max_iter": 1})
+    with pytest.warns(orrc.SolverWarning, match="did not converge"):
+        plan = rhc.plan(np.array([0.5, 0.0]), np.zeros((10, 2)))
+    assert not plan.success and "Maximum_Iterations" in plan.status
+    assert plan.fallback is not None
+    with pytest.warns((orrc.SolverWarning, RuntimeWarning)):
+        traj = orrc.simulate(ex.system, rhc, np.array([0.5, 0.0]), np.zeros((20, 2)), 5)
+    assert traj.n_failures == 5 and not traj.success.any()
+    assert all("Maximum_Iterations" in s for s in traj.status)
