@@ -31,6 +31,8 @@ class Trajectory:
 
     x : (T+1, n) states x_0..x_T          u : (T, m) inputs
     w : (T, n) the disturbances that acted  costs : (T,) c_t(x_t, u_t)
+    w_all : (T + max(M_w, 1), n) the disturbance record the controller previewed
+        (w plus the preview tail, zeros where the given data ran out)
     sigma : (T+1,) σ(x_t)
     values : (T,) V_M at each step when the controller reports it at every step, else None
     success : (T,) solver success per step; status : list of solver statuses
@@ -41,6 +43,7 @@ class Trajectory:
     x: np.ndarray
     u: np.ndarray
     w: np.ndarray
+    w_all: np.ndarray
     costs: np.ndarray
     sigma: np.ndarray
     values: np.ndarray | None
@@ -179,6 +182,6 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
         np.array([stage.sigma(x) for x in X])
     values = V if has_value.all() else None
     alpha_lo = seq.alpha_lo if seq is not None else stage.alpha_lo
-    return Trajectory(x=X, u=U, w=np.array(wpad[:T]), costs=C, sigma=sig, values=values, success=ok,
+    return Trajectory(x=X, u=U, w=np.array(wpad[:T]), w_all=np.array(wpad), costs=C, sigma=sig, values=values, success=ok,
                       status=status, iterations=iters, solve_times=times, controller=controller.name,
                       preview_w=Mw, preview_c=Mc, alpha_lo=alpha_lo, wall_time=wall)
