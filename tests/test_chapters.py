@@ -3,7 +3,6 @@
 The chapters are MyST Markdown notebooks; they are read with jupytext and run
 with nbclient in a fresh kernel, one test per chapter listed in _toc.yml.
 """
-import os
 from pathlib import Path
 
 import pytest

@@ -157,3 +157,44 @@ def test_solver_failure_is_reported_warned_and_falls_back():
         traj = orrc.simulate(ex.system, rhc, np.array([0.5, 0.0]), np.zeros((20, 2)), 5)
     assert traj.n_failures == 5 and not traj.success.any()
     assert all("Maximum_Iterations" in s for s in traj.status)
+
+
+def test_unknown_solver_option_is_a_clear_error():
+    ex = orrc.examples.inverted_pendulum()
+    with pytest.raises(ValueError, match=r"CasADi rejected .*'ipopt.no_such_option'"):
+        orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds,
+                        solver_options={"ipopt.no_such_option": 1})
+
+
+def test_nonconvex_time_varying_cost_in_casadi():
+    """A non-convex, parametrised stage cost c_t(x, u) = p_t (1 - cos x1) + x2² + 0.1 u² (a pendulum
+    energy-like cost) is optimised by the CasADi path; the plan is a local optimum that beats
+    simple perturbations of itself."""
+    ex = orrc.examples.inverted_pendulum()
+    cost = orrc.Cost(lambda x, u, p: p[0] * (1 - ca.cos(x[0])) + x[1] ** 2 + 0.1 * u[0] ** 2,
+                     n=2, m=1, n_params=1, default_params=[5.0], name="1 - cos")
+    M = 10
+    rhc = orrc.PreviewRHC(ex.system, cost, M, input_bounds=ex.input_bounds)
+    params = np.linspace(2.0, 8.0, M)[:, None]
+    x0, W = np.array([0.6, 0.0]), np.zeros((M, 2))
+    plan = rhc.plan(x0, W, cost_params=params)
+
+    def total(U):
+        x, J = x0, 0.0
+        for j in range(M):
+            J += cost(x, U[j], params[j])
+            x = ex.system.step(x, U[j], W[j])
+        return J
+
+    assert plan.success and total(plan.inputs) == pytest.approx(plan.value, rel=1e-8)
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        U = np.clip(plan.inputs + 1e-3 * rng.standard_normal(plan.inputs.shape), -20, 20)
+        assert total(U) >= plan.value - 1e-9
+    # closed loop with a long enough horizon: the pendulum is brought upright (θ = 0 mod 2π,
+    # both minima of the non-convex cost) and kept there
+    rhc20 = orrc.PreviewRHC(ex.system, cost, 20, input_bounds=ex.input_bounds)
+    seq = orrc.CostSequence(cost, 20 * np.linspace(1.0, 2.0, 80)[:, None])
+    traj = orrc.simulate(ex.system, rhc20, x0, np.zeros((80, 2)), 60, costs=seq)
+    assert traj.n_failures == 0
+    assert 1 - np.cos(traj.x[-1, 0]) < 1e-6 and abs(traj.x[-1, 1]) < 1e-3

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_int, check_options
+from .._validate import OrrcValueError, as_array, as_int
 from ..costs import QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from ..solvers import lq

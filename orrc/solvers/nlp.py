@@ -66,7 +66,15 @@ class ShootingNLP:
         p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp))
         opts = dict(DEFAULT_IPOPT) if solver == "ipopt" else {}
         opts.update(solver_options or {})
-        self.solver = ca.nlpsol("rhc", solver, {"x": z, "f": J, "g": ca.vertcat(*g), "p": p}, opts)
+        try:
+            self.solver = ca.nlpsol("rhc", solver, {"x": z, "f": J, "g": ca.vertcat(*g), "p": p}, opts)
+        except RuntimeError as exc:  # CasADi rejects unknown solvers/options at construction
+            from .._validate import OrrcValueError
+
+            first = str(exc).strip().splitlines()[-1] if str(exc).strip() else repr(exc)
+            raise OrrcValueError(
+                f"CasADi rejected the NLP solver {solver!r} with options {sorted(solver_options or {})}: "
+                f"{first}") from exc
         self.solver_name = solver
         ulo, uhi = (np.full(m, -np.inf), np.full(m, np.inf)) if input_bounds is None else input_bounds
         xlo, xhi = (np.full(n, -np.inf), np.full(n, np.inf)) if state_bounds is None else state_bounds
