@@ -13,7 +13,7 @@ from .simulate import Trajectory, simulate
 from .solvers.nlp import SolverWarning
 from .solvers.plan import Plan
 from .systems import LinearSystem, NonlinearSystem, System
-from . import disturbances, examples
+from . import config, disturbances, examples
 
 __version__ = "0.1.0"
 

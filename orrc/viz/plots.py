@@ -1,0 +1,426 @@
+"""Figures of the first chapters (the problem, Algorithm 1).
+
+Every function takes the data it draws (trajectories from :func:`orrc.simulate`,
+arrays of totals, LQ preview laws) and returns a :class:`matplotlib.figure.Figure`.
+The computations behind the curves are ``orrc``'s own (:func:`orrc.attenuation_regret`,
+:func:`orrc.attenuation_ratio`, ...), so a figure cannot disagree with the package.
+
+The figures are created without ``pyplot`` (no global figure state): a figure is
+shown in a notebook when it is the value of a cell (with ``%matplotlib inline``),
+and it can be handed to :func:`orrc.viz.explore` as a frame.
+"""
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from .._validate import OrrcValueError, as_array, as_float, as_int
+from ..metrics import attenuation_ratio, attenuation_regret
+
+__all__ = [
+    "controller_color", "information_pattern", "cost_overview", "running_regret", "cost_vs_energy",
+    "preview_gains", "cost_vs_horizon", "disturbance_panel", "rhc_frame", "solver_effort",
+    "table", "Table",
+]
+
+_NAMED = {"zero": "0.55", "lqr": "tab:orange", "rhc": "tab:blue", "preview": "tab:blue",
+          "clairvoyant": "black", "optimum": "black"}
+_CYCLE = ["tab:blue", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
+
+
+def controller_color(label: str, index: int = 0) -> str:
+    """A stable colour per controller: zero input grey, LQR orange, preview RHC blue,
+    the clairvoyant optimum black; other labels cycle through a fixed palette."""
+    low = str(label).lower()
+    for key, colour in _NAMED.items():
+        if key in low:
+            return colour
+    return _CYCLE[index % len(_CYCLE)]
+
+
+def _style(label: str) -> dict:
+    low = str(label).lower()
+    if "clairvoyant" in low or "optimum" in low:
+        return {"linestyle": "--", "linewidth": 1.3}
+    return {"linewidth": 1.5}
+
+
+def _trajs(trajs) -> dict:
+    from ..simulate import Trajectory
+
+    if not isinstance(trajs, dict) or not trajs:
+        raise OrrcValueError(
+            f"trajs must be a non-empty dict label -> Trajectory; got {type(trajs).__name__}"
+            + ("" if not isinstance(trajs, dict) else " (empty)"))
+    for k, v in trajs.items():
+        if not isinstance(v, Trajectory):
+            raise OrrcValueError(f"trajs[{k!r}] must be an orrc Trajectory; got {type(v).__name__}")
+    return trajs
+
+
+def _figure(nrows: int = 1, ncols: int = 1, width: float = 9.0, height: float = 3.2, fast: bool = False, **kw):
+    """A new Figure with a grid of axes. ``fast``: fixed margins instead of the
+    constrained layout engine (about twice as fast to render; for explorer frames)."""
+    fig = Figure(figsize=(width, height), layout=None if fast else "constrained")
+    axes = fig.subplots(nrows, ncols, squeeze=False, **kw)
+    if fast:
+        fig.subplots_adjust(left=0.07, right=0.99, bottom=0.17, top=0.84, wspace=0.32)
+    return fig, axes
+
+
+def _gammas(gammas) -> list[float]:
+    gammas = list(np.atleast_1d(gammas))
+    if not gammas:
+        raise OrrcValueError("gammas must list at least one attenuation level γ >= 0; got none")
+    return [as_float("gamma", g, minimum=0.0) for g in gammas]
+
+
+def information_pattern(t: int, M_w: int, M_c: int, T: int) -> Figure:
+    """What a controller knows at step t (the information pattern of Eq. 2):
+    x_{1:t}, u_{1:t-1}, w_{1:t+M_w-1} and c_{1:t+M_c-1}, drawn on a time line 1..T."""
+    T = as_int("T", T, minimum=2)
+    t = as_int("t", t, minimum=1)
+    if t > T:
+        raise OrrcValueError(f"t must be between 1 and T={T}; got {t}")
+    M_w = as_int("M_w", M_w, minimum=0)
+    M_c = as_int("M_c", M_c, minimum=0)
+    rows = [("states $x$", t, "tab:blue"), ("inputs $u$", t - 1, "tab:orange"),
+            ("disturbances $w$", t + M_w - 1, "tab:red"), ("costs $c$", t + M_c - 1, "tab:green")]
+    fig, ax = _figure(width=8.0, height=2.4)
+    ax = ax[0, 0]
+    for i, (name, last, colour) in enumerate(rows):
+        y = len(rows) - 1 - i
+        last = min(last, T)
+        for s in range(1, T + 1):
+            known = s <= last
+            ax.add_patch(_rect(s - 0.45, y - 0.3, 0.9, 0.6, colour if known else "white", colour, 0.85 if known else 1.0))
+        ax.text(0.2, y, name, ha="right", va="center", fontsize=10)
+    ax.axvline(t, color="k", linewidth=1.0, linestyle=":")
+    ax.text(t, len(rows) - 0.45, f"now: $t={t}$", ha="center", va="bottom", fontsize=9)
+    ax.set_xlim(-3.2, T + 0.8)
+    ax.set_ylim(-0.7, len(rows) + 0.1)
+    ax.set_yticks([])
+    ax.set_xticks(range(1, T + 1))
+    ax.set_xlabel("time step")
+    for side in ("left", "right", "top"):
+        ax.spines[side].set_visible(False)
+    ax.set_title(f"known at time $t={t}$ with preview $M_w={M_w}$, $M_c={M_c}$ (filled = known)", fontsize=10)
+    return fig
+
+
+def _rect(x, y, w, h, face, edge, alpha):
+    from matplotlib.patches import Rectangle
+
+    return Rectangle((x, y), w, h, facecolor=face, edgecolor=edge, alpha=alpha, linewidth=1.0)
+
+
+def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, off_scale=(),
+                  cost_log: bool = False) -> Figure:
+    """Two panels: one state coordinate x_t[state] against t, and the cumulative cost
+    Σ_{s<=t} c_s(x_s, u_s) against t.
+
+    ``off_scale``: labels of trajectories (e.g. an unstable open loop) that are drawn
+    but ignored when the axis limits are chosen, so they leave the picture instead of
+    flattening the others. ``cost_log``: a log scale for the cost panel.
+    """
+    trajs = _trajs(trajs)
+    first = next(iter(trajs.values()))
+    state = as_int("state", state, minimum=0)
+    if state >= first.x.shape[1]:
+        raise OrrcValueError(f"state must index a state coordinate (0..{first.x.shape[1] - 1}); got {state}")
+    off_scale = tuple(off_scale)
+    for k in off_scale:
+        if k not in trajs:
+            raise OrrcValueError(f"off_scale label {k!r} is not among the trajectories {list(trajs)}")
+    if len(off_scale) == len(trajs):
+        raise OrrcValueError("off_scale cannot list every trajectory: at least one must set the axis limits")
+    fig, axes = _figure(1, 2)
+    ax_x, ax_c = axes[0]
+    x_rng, c_rng = [np.inf, -np.inf], [np.inf, -np.inf]
+    for i, (label, tr) in enumerate(trajs.items()):
+        c = controller_color(label, i)
+        cum = np.cumsum(tr.costs)
+        name = label + (" (leaves the plot)" if label in off_scale else "")
+        ax_x.plot(np.arange(tr.T + 1), tr.x[:, state], color=c, label=name, **_style(label))
+        ax_c.plot(np.arange(1, tr.T + 1), cum, color=c, label=name, **_style(label))
+        if label not in off_scale:
+            x_rng = [min(x_rng[0], tr.x[:, state].min()), max(x_rng[1], tr.x[:, state].max())]
+            c_rng = [min(c_rng[0], cum[cum > 0].min(initial=np.inf)), max(c_rng[1], cum.max())]
+    if off_scale:
+        pad = 0.08 * (x_rng[1] - x_rng[0] or 1.0)
+        ax_x.set_ylim(x_rng[0] - pad, x_rng[1] + pad)
+        ax_c.set_ylim((0.5 * c_rng[0], 2.0 * c_rng[1]) if cost_log else (0.0, 1.1 * c_rng[1]))
+    ax_x.axhline(0.0, color="0.8", linewidth=0.8, zorder=0)
+    ax_x.set_xlabel("time step $t$")
+    ax_x.set_ylabel(state_label or f"state $x_t[{state}]$")
+    if cost_log:
+        ax_c.set_yscale("log")
+    ax_c.set_xlabel("time step $t$")
+    ax_c.set_ylabel(r"cumulative cost $\sum_{s\leq t} c_s$")
+    ax_c.legend(fontsize=8, loc="best")
+    return fig
+
+
+def running_regret(trajs: dict, gammas) -> Figure:
+    """R^p_t(γ) = Σ_{s<=t} c_s − γ Σ_{s<=t} ‖w_s‖² against t (Eq. 2, signed form), one
+    panel per trajectory and one curve per γ. Each panel's title gives the trajectory's
+    attenuation ratio Σ c_t / Σ ‖w_t‖²: the curves for γ above it end below zero."""
+    trajs = _trajs(trajs)
+    gammas = _gammas(gammas)
+    fig, axes = _figure(1, len(trajs), width=3.1 * len(trajs) + 0.5, height=3.3, sharex=True)
+    colours = [f"C{k}" for k in range(len(gammas))]
+    for ax, (label, tr) in zip(axes[0], trajs.items()):
+        t = np.arange(1, tr.T + 1)
+        for g, c in zip(gammas, colours):
+            ax.plot(t, attenuation_regret(tr, g, cumulative=True), color=c, label=rf"$\gamma={g:g}$")
+        ax.axhline(0.0, color="k", linewidth=0.8)
+        ax.set_title(f"{label}\nratio $\\sum c/\\sum\\|w\\|^2$ = {attenuation_ratio(tr):.3g}", fontsize=10)
+        ax.set_xlabel("$t$")
+    axes[0, 0].set_ylabel(r"$R^p_t(\gamma)$")
+    axes[0, -1].legend(fontsize=8, loc="best")
+    return fig
+
+
+def cost_vs_energy(energies, costs: dict, gammas=()) -> Figure:
+    """Total cost against disturbance energy Σ‖w_t‖² on log-log axes, one curve per
+    controller (``costs``: label -> totals, aligned with ``energies``), with the lines
+    cost = γ · energy for the listed ``gammas`` as reference."""
+    energies = as_array("energies", energies, ndim=1)
+    if np.any(energies <= 0):
+        raise OrrcValueError("energies must be positive (log axis); got a value <= 0")
+    if not isinstance(costs, dict) or not costs:
+        raise OrrcValueError("costs must be a non-empty dict label -> array of totals")
+    fig, ax = _figure(width=6.0, height=3.8)
+    ax = ax[0, 0]
+    for i, (label, c) in enumerate(costs.items()):
+        c = as_array(f"costs[{label!r}]", c, (len(energies),))
+        ax.plot(energies, c, marker="o", markersize=4, color=controller_color(label, i), label=label, **_style(label))
+    e = np.array([energies.min(), energies.max()])
+    for g in _gammas(gammas) if len(gammas) else []:
+        ax.plot(e, g * e, color="0.6", linewidth=0.9, linestyle=":")
+        ax.text(e[-1], g * e[-1], rf" $\gamma={g:g}$", fontsize=8, color="0.4", va="center")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"disturbance energy $\sum_t \|w_t\|^2$")
+    ax.set_ylabel(r"total cost $\sum_t c_t$")
+    ax.legend(fontsize=8, loc="upper left")
+    return fig
+
+
+def preview_gains(laws: dict, K_ref=None) -> Figure:
+    """The preview gains of the exact LQ law u_t = −K x_t − Σ_j L_j w_{t+j}: ‖L_j‖
+    (spectral norm) against j for each law (``laws``: label -> ``LQPreviewLaw`` or a
+    ``PreviewRHC`` on the LQ path), on a log scale. ``K_ref`` (optional): a reference
+    feedback gain (e.g. the infinite-horizon LQR gain) whose distance ‖K_M − K_ref‖ is
+    shown in a second panel."""
+    if not isinstance(laws, dict) or not laws:
+        raise OrrcValueError("laws must be a non-empty dict label -> LQPreviewLaw (or PreviewRHC)")
+    items = []
+    for label, law in laws.items():
+        law = getattr(law, "law", law)
+        if law is None or not hasattr(law, "L") or not hasattr(law, "K"):
+            raise OrrcValueError(
+                f"laws[{label!r}] must be an LQPreviewLaw or a PreviewRHC on the exact LQ path "
+                "(linear system, quadratic cost, no bounds)")
+        L = np.asarray(law.L).reshape(law.m, law.M, law.n).transpose(1, 0, 2)  # (M, m, n): L_j
+        items.append((label, law, np.linalg.norm(L, ord=2, axis=(1, 2))))
+    ncols = 2 if K_ref is not None else 1
+    fig, axes = _figure(1, ncols, width=4.6 * ncols + 0.4, height=3.4)
+    ax = axes[0, 0]
+    for i, (label, law, norms) in enumerate(items):
+        j = np.arange(law.M)
+        keep = norms > 0
+        ax.semilogy(j[keep], norms[keep], marker=".", color=f"C{i}", label=label)
+    ax.set_xlabel("preview index $j$ (gain on $w_{t+j}$)")
+    ax.set_ylabel(r"$\|L_j\|$")
+    ax.legend(fontsize=8)
+    if K_ref is not None:
+        K_ref = np.atleast_2d(as_array("K_ref", K_ref))
+        ax2 = axes[0, 1]
+        Ms = [law.M for _, law, _ in items]
+        d = [np.linalg.norm(np.asarray(law.K) - K_ref, 2) for _, law, _ in items]
+        ax2.semilogy(Ms, np.maximum(d, 1e-16), marker="o", color="tab:blue")
+        ax2.set_xlabel("horizon $M$")
+        ax2.set_ylabel(r"$\|K_M - K_{\mathrm{LQR}}\|$")
+    return fig
+
+
+def cost_vs_horizon(Ms, costs: dict, optimum: dict | None = None, baseline: dict | None = None) -> Figure:
+    """Total closed-loop cost of Algorithm 1 against the horizon M.
+
+    ``costs``: label (e.g. a disturbance kind) -> totals for each M in ``Ms``;
+    ``optimum``: label -> the clairvoyant optimum J* of the same problem; ``baseline``:
+    label -> another controller's total (e.g. LQR). Left: the totals on a log scale
+    with J* dotted. Right (when ``optimum`` is given): the relative excess
+    (J_M − J*)/J* on a log scale, or a symmetric-log scale when some excess is <= 0
+    (a local NLP optimum as reference can make it negative), with the baseline's
+    excess dashed.
+    """
+    Ms = [as_int("M", m, minimum=1) for m in Ms]
+    if not isinstance(costs, dict) or not costs:
+        raise OrrcValueError("costs must be a non-empty dict label -> totals per M")
+    ncols = 2 if optimum else 1
+    fig, axes = _figure(1, ncols, width=4.6 * ncols + 0.4, height=3.4)
+    ax = axes[0, 0]
+    excess = []
+    for i, (label, c) in enumerate(costs.items()):
+        c = as_array(f"costs[{label!r}]", c, (len(Ms),))
+        col = f"C{i}"
+        ax.plot(Ms, c, marker="o", markersize=4, color=col, label=label)
+        if optimum and label in optimum:
+            ax.axhline(optimum[label], color=col, linestyle=":", linewidth=1.0)
+        if optimum and label in optimum:
+            J = float(optimum[label])
+            axr = axes[0, 1]
+            axr.plot(Ms, (c - J) / J, marker="o", markersize=4, color=col, label=label)
+            excess.extend((c - J) / J)
+            if baseline and label in baseline:
+                axr.axhline((float(baseline[label]) - J) / J, color=col, linestyle="--", linewidth=1.0)
+                excess.append((float(baseline[label]) - J) / J)
+    ax.set_yscale("log")
+    ax.set_xlabel("horizon $M$")
+    ax.set_ylabel(r"total cost $J_M$ (dotted: $J^*$)")
+    ax.legend(fontsize=8)
+    if optimum:
+        axr = axes[0, 1]
+        if excess and min(excess) > 0:
+            axr.set_yscale("log")
+        else:  # an excess <= 0 (a local NLP optimum as reference, or rounding): symmetric log
+            axr.set_yscale("symlog", linthresh=1e-4)
+            axr.axhline(0.0, color="k", linewidth=0.8)
+        axr.set_xlabel("horizon $M$")
+        axr.set_ylabel(r"$(J_M - J^*)/J^*$" + ("  (dashed: LQR)" if baseline else ""))
+    return fig
+
+
+def disturbance_panel(ws: dict, scales=None, T: int | None = None) -> Figure:
+    """The disturbance sequences side by side: the first coordinate w_t[0] and ‖w_t‖
+    for each kind (``ws``: label -> (L, n) array), and, when given, the cost scales
+    s_t of a time-varying cost c_t = s_t xᵀQx + uᵀRu. ``T`` cuts the plots at T steps."""
+    if not isinstance(ws, dict) or not ws:
+        raise OrrcValueError("ws must be a non-empty dict label -> (L, n) disturbance array")
+    k = len(ws) + (scales is not None)
+    fig, axes = _figure(1, k, width=3.0 * k + 0.5, height=2.6)
+    for ax, (label, w) in zip(axes[0], ws.items()):
+        w = as_array(f"ws[{label!r}]", w, ndim=2)
+        w = w[:T] if T else w
+        t = np.arange(len(w))
+        ax.plot(t, w[:, 0], color="tab:red", linewidth=1.0, label="$w_t[0]$")
+        ax.plot(t, np.linalg.norm(w, axis=1), color="0.3", linewidth=0.8, label=r"$\|w_t\|$")
+        ax.set_title(label, fontsize=10)
+        ax.set_xlabel("$t$")
+    axes[0, 0].legend(fontsize=8)
+    if scales is not None:
+        s = as_array("scales", scales, ndim=1)
+        s = s[:T] if T else s
+        ax = axes[0, -1]
+        ax.step(np.arange(len(s)), s, where="post", color="tab:green")
+        ax.set_yscale("log")
+        ax.set_title("cost scale $s_t$", fontsize=10)
+        ax.set_xlabel("$t$")
+    return fig
+
+
+def rhc_frame(traj, reference, gamma: float, state_labels=("$x_t[0]$",), input_bounds=None,
+              title: str | None = None, ylim_R=None) -> Figure:
+    """One frame of the M-and-γ explorer: the first state and the input of ``traj``
+    against the clairvoyant ``reference`` (dashed), and the running R^p_t(γ) of both.
+
+    ``input_bounds``: (lo, hi) drawn as grey lines on the input panel; ``ylim_R``:
+    fixed limits of the R panel, so frames for different M, γ compare at a glance.
+    """
+    trajs = _trajs({"traj": traj, "reference": reference})
+    traj, reference = trajs["traj"], trajs["reference"]
+    gamma = as_float("gamma", gamma, minimum=0.0)
+    fig, axes = _figure(1, 3, width=11.0, height=3.0, fast=True)
+    ax_x, ax_u, ax_r = axes[0]
+    t = np.arange(traj.T + 1)
+    ax_x.plot(t, reference.x[:, 0], color="black", linestyle="--", linewidth=1.2, label="clairvoyant")
+    ax_x.plot(t, traj.x[:, 0], color="tab:blue", linewidth=1.5, label="preview RHC")
+    ax_x.axhline(0.0, color="0.8", linewidth=0.8, zorder=0)
+    ax_x.set_ylabel(state_labels[0])
+    ax_x.legend(fontsize=8)
+    ax_u.step(t[:-1], reference.u[:, 0], where="post", color="black", linestyle="--", linewidth=1.0)
+    ax_u.step(t[:-1], traj.u[:, 0], where="post", color="tab:blue", linewidth=1.3)
+    if input_bounds is not None:
+        for b in input_bounds:
+            ax_u.axhline(float(np.ravel(b)[0]), color="0.6", linewidth=0.9, linestyle=":")
+    ax_u.set_ylabel("input $u_t$")
+    ax_r.plot(t[1:], attenuation_regret(reference, gamma, cumulative=True), color="black", linestyle="--",
+              linewidth=1.2)
+    ax_r.plot(t[1:], attenuation_regret(traj, gamma, cumulative=True), color="tab:blue", linewidth=1.5)
+    ax_r.axhline(0.0, color="k", linewidth=0.8)
+    if ylim_R is not None:
+        ax_r.set_ylim(*ylim_R)
+    ax_r.set_ylabel(rf"$R^p_t(\gamma)$, $\gamma={gamma:g}$")
+    for ax in axes[0]:
+        ax.set_xlabel("$t$")
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
+    """Solver iterations per step (``iterations``: label -> (T,) array), and, when
+    given, the solve time per step in milliseconds."""
+    if not isinstance(iterations, dict) or not iterations:
+        raise OrrcValueError("iterations must be a non-empty dict label -> per-step iteration counts")
+    ncols = 2 if solve_times else 1
+    fig, axes = _figure(1, ncols, width=4.6 * ncols + 0.4, height=3.0)
+    for i, (label, it) in enumerate(iterations.items()):
+        it = as_array(f"iterations[{label!r}]", it, ndim=1)
+        axes[0, 0].plot(np.arange(len(it)), it, color=f"C{i}", label=label, linewidth=1.2)
+    axes[0, 0].set_xlabel("$t$")
+    axes[0, 0].set_ylabel("IPOPT iterations")
+    axes[0, 0].legend(fontsize=8)
+    if solve_times:
+        for i, (label, st) in enumerate(solve_times.items()):
+            st = as_array(f"solve_times[{label!r}]", st, ndim=1)
+            axes[0, 1].plot(np.arange(len(st)), 1e3 * st, color=f"C{i}", label=label, linewidth=1.2)
+        axes[0, 1].set_xlabel("$t$")
+        axes[0, 1].set_ylabel("solve time per step [ms]")
+    return fig
+
+
+class Table:
+    """A small table that displays as HTML in notebooks and in the book (a Markdown
+    table of text/markdown would not be rendered by the book's CommonMark output
+    renderer), as Markdown in ``_repr_markdown_`` and as plain text otherwise."""
+
+    def __init__(self, headers, rows):
+        self.headers, self.rows = headers, rows
+
+    def _repr_html_(self):
+        import html
+
+        head = "".join(f"<th>{html.escape(h)}</th>" for h in self.headers)
+        body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in r) + "</tr>" for r in self.rows)
+        return (f'<table class="table orrc-table"><thead><tr>{head}</tr></thead>'
+                f"<tbody>{body}</tbody></table>")
+
+    def _repr_markdown_(self):
+        lines = ["| " + " | ".join(self.headers) + " |", "|" + "|".join("---" for _ in self.headers) + "|"]
+        return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in self.rows])
+
+    def __repr__(self):
+        widths = [max(len(h), *(len(r[i]) for r in self.rows)) for i, h in enumerate(self.headers)]
+        fmt = "  ".join(f"{{:<{w}}}" for w in widths)
+        return "\n".join([fmt.format(*self.headers)] + [fmt.format(*r) for r in self.rows])
+
+
+def table(headers, rows, digits: int = 4) -> Table:
+    """A :class:`Table` of ``rows`` under ``headers``; floats are printed with
+    ``digits`` significant digits."""
+    headers = [str(h) for h in headers]
+    rows = [list(r) for r in rows]
+    for i, r in enumerate(rows):
+        if len(r) != len(headers):
+            raise OrrcValueError(f"row {i} has {len(r)} cells; the table has {len(headers)} columns")
+    digits = as_int("digits", digits, minimum=1)
+
+    def fmt(v):
+        if isinstance(v, (float, np.floating)):
+            return f"{v:.{digits}g}"
+        return str(v)
+
+    return Table(headers, [[fmt(v) for v in r] for r in rows])
