@@ -160,14 +160,14 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
                 V[t] = d.value
                 has_value[t] = True
             ok[t], status[t], iters[t], times[t] = d.success, d.status, d.iterations, d.solve_time
-            if quad:
-                C[t] = xt @ Q @ xt + u @ R @ u
-            else:
+            if not quad:
                 C[t] = stage.value(xt, u, None if seq is None else cparams[t])
             if linear:
                 X[t + 1] = A @ xt + B @ u + wpad[t]
             else:
                 X[t + 1] = system.step(xt, u, wpad[t])
+        if quad:  # c_t = x_tᵀQx_t + u_tᵀRu_t for all t at once (the costs do not feed back)
+            C[:] = np.einsum("ti,ti->t", X[:-1] @ Q, X[:-1]) + np.einsum("ti,ti->t", U @ R, U)
     wall = time.perf_counter() - start
     if not np.all(np.isfinite(X)) or not np.all(np.isfinite(U)):
         bad = int(np.argmax(~np.all(np.isfinite(X), axis=1)))

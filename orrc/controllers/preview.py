@@ -91,6 +91,9 @@ class PreviewRHC(Controller):
         if self.solver == "lq":
             self._Pf = Pf
             self.law = lq.LQPreviewLaw(system.A, system.B, cost.Q, cost.R, self.M, Pf)
+            # [H; -[K L]]: one matrix-vector product per step gives both H z (for V_M) and
+            # u = -K x - L vec W (the closed-loop hot path; see benchmarks/lq_path.py)
+            self._HG = np.vstack([self.law.H, -np.hstack([self.law.K, self.law.L])])
             self._nlp = None
         else:
             self.law = None
@@ -158,11 +161,11 @@ class PreviewRHC(Controller):
 
     def control(self, obs: Observation) -> Decision:
         if self.solver == "lq" and obs.cost_params is None:
-            law, W = self.law, obs.w_preview
-            z = np.concatenate((obs.x, W.reshape(-1)))
-            Hz = law.H @ z
-            u = -law.K @ obs.x - law.L @ z[law.n:]
-            return Decision(u=u, value=float(z @ Hz))
+            # u_t = -K x_t - L vec W_t and V_M = zᵀHz, z = [x_t; vec W_t] (LQPreviewLaw)
+            z = np.concatenate((obs.x, obs.w_preview.reshape(-1)))
+            y = self._HG @ z
+            m = self.system.m
+            return Decision(u=y[-m:], value=float(z @ y[:-m]))
         P = (np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
              if obs.cost_params is None else obs.cost_params)
         plan = self._solve(obs.x, obs.w_preview, P, obs.cost_params is None, self._prev)

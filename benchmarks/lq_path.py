@@ -1,0 +1,141 @@
+"""Benchmark 2 (issue 2, "Performance"): the exact linear-quadratic closed loop.
+
+T = 1000 closed-loop steps of Algorithm 1 with M = 50 on ``orrc.examples.two_mass_spring()``
+(n = 4, m = 1), previewed disturbances w_t drawn from a ball:
+
+* orrc: ``orrc.simulate(system, PreviewRHC(system, cost, M), x0, w, T)`` -- the exact LQ
+  path (u_t = −K x_t − L vec(w_t..w_{t+M-1}), Lemma/closed form of ``orrc.solvers.lq``),
+  which also records the stage costs c_t, σ(x_t) and V_M(x_t, w_{t:t+M-1}) at each step and
+  enforces the preview information pattern (one read-only Observation per step);
+* a bare numpy loop with the same precomputed law (K = rhc.law.K, L = rhc.law.L) and the
+  dynamics x_{t+1} = A x_t + B u_t + w_t, in three versions:
+  - "floor": only the law, written as in issue 2 (u = −K x − L vec W), and the dynamics --
+    the least work that produces the trajectory; the target is stated against it;
+  - "fused floor": the same with K and L stacked into one product (a faster floor, reported);
+  - "+ bookkeeping": the floor plus c_t = x_tᵀQx_t + u_tᵀRu_t and V_M = zᵀHz,
+    z = [x_t; vec W_t], in the loop, i.e. the same outputs as orrc.
+
+All trajectories must agree to 1e-10 (and costs/values to 1e-10 relative). The target:
+orrc well under a second (we require < 0.5 s) and within 3× of the floor loop.
+Repetitions are interleaved (orrc, floor, fused floor, bookkeeping, orrc, ...) so that a
+load change on the machine hits all of them alike; medians are reported.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+import orrc
+from orrc.solvers import lq
+
+from .common import CheckFailed, Row, fmt_time, timed
+
+TARGET_RATIO = 3.0
+TARGET_SECONDS = 0.5
+ATOL = 1e-10
+
+
+def bare_loop(A, B, K, L, w_all, x0, T: int, M: int):
+    """The floor: u_t = −K x_t − L vec(w_t..w_{t+M-1}), x_{t+1} = A x_t + B u_t + w_t."""
+    n, m = B.shape
+    X = np.empty((T + 1, n))
+    U = np.empty((T, m))
+    X[0] = x0
+    for t in range(T):
+        x = X[t]
+        u = -K @ x - L @ w_all[t:t + M].reshape(-1)
+        U[t] = u
+        X[t + 1] = A @ x + B @ u + w_all[t]
+    return X, U
+
+
+def bare_loop_fused(A, B, KL, w_all, x0, T: int, M: int):
+    """The floor with K and L fused: u_t = −[K L] [x_t; vec W_t], one product per step."""
+    n, m = B.shape
+    X = np.empty((T + 1, n))
+    U = np.empty((T, m))
+    X[0] = x0
+    for t in range(T):
+        x = X[t]
+        u = KL @ np.concatenate((x, w_all[t:t + M].reshape(-1)))
+        U[t] = u
+        X[t + 1] = A @ x + B @ u + w_all[t]
+    return X, U
+
+
+def bare_loop_bookkeeping(A, B, K, L, H, Q, R, w_all, x0, T: int, M: int):
+    """The floor plus the stage costs and V_M(x_t, W_t) = zᵀHz at every step."""
+    n, m = B.shape
+    X = np.empty((T + 1, n))
+    U = np.empty((T, m))
+    C = np.empty(T)
+    V = np.empty(T)
+    X[0] = x0
+    for t in range(T):
+        x = X[t]
+        Wv = w_all[t:t + M].reshape(-1)
+        u = -K @ x - L @ Wv
+        U[t] = u
+        C[t] = x @ Q @ x + u @ R @ u
+        z = np.concatenate((x, Wv))
+        V[t] = z @ (H @ z)
+        X[t + 1] = A @ x + B @ u + w_all[t]
+    return X, U, C, V
+
+
+def run(T: int = 1000, M: int = 50, reps: int = 15, seed: int = 0) -> list[Row]:
+    """Run the benchmark; raises :class:`CheckFailed` if the loops disagree."""
+    ex = orrc.examples.two_mass_spring()
+    sys, cost = ex.system, ex.cost
+    A, B, Q, R = sys.A, sys.B, cost.Q, cost.R
+    w = orrc.disturbances.uniform_ball(T + M - 1, sys.n, radius=0.05, seed=seed)
+    builds = []
+    for _ in range(3):
+        rhc, t_build = timed(orrc.PreviewRHC, sys, cost, M)
+        builds.append(t_build)
+    if rhc.solver != "lq":
+        raise CheckFailed(f"expected the exact LQ path, got solver {rhc.solver!r}")
+    K, L, H = rhc.law.K, rhc.law.L, rhc.law.H
+    w_all = np.zeros((T + M, sys.n))           # the preview tail past the data is zero, as in simulate
+    w_all[:len(w)] = w
+    KL = -np.hstack([K, L])
+    t_o, t_f, t_k, t_b = [], [], [], []
+    for _ in range(reps):
+        traj, t = timed(orrc.simulate, sys, rhc, ex.x0, w, T)
+        t_o.append(t)
+        (Xf, Uf), t = timed(bare_loop, A, B, K, L, w_all, ex.x0, T, M)
+        t_f.append(t)
+        (Xk, Uk), t = timed(bare_loop_fused, A, B, KL, w_all, ex.x0, T, M)
+        t_k.append(t)
+        (Xb, Ub, Cb, Vb), t = timed(bare_loop_bookkeeping, A, B, K, L, H, Q, R, w_all, ex.x0, T, M)
+        t_b.append(t)
+    dx = max(np.abs(traj.x - Xf).max(), np.abs(traj.u - Uf).max(), np.abs(Xb - Xf).max(),
+             np.abs(Xk - Xf).max())
+    dc = np.abs(traj.costs - Cb).max() / np.abs(Cb).max()
+    dv = np.abs(traj.values - Vb).max() / np.abs(Vb).max()
+    if not (dx <= ATOL and dc <= ATOL and dv <= ATOL):
+        raise CheckFailed(f"LQ path T={T}, M={M}: orrc and the bare loop disagree (states/inputs "
+                          f"{dx:.2e}, costs {dc:.2e} rel., V_M {dv:.2e} rel.)")
+    # an independent check that the trajectory is the receding-horizon one: u_0 is the
+    # first input of the M-step optimum solved from scratch by the Riccati recursion
+    U0 = lq.solve(A, B, np.broadcast_to(Q, (M,) + Q.shape), np.broadcast_to(R, (M,) + R.shape),
+                               ex.x0, w_all[:M])[0][0]
+    if np.abs(U0 - traj.u[0]).max() > 1e-8 * max(1.0, np.abs(U0).max()):
+        raise CheckFailed(f"u_0 = {traj.u[0]} is not the first input of the M-step optimum {U0}")
+    to, tf, tk, tb = (float(np.median(v)) for v in (t_o, t_f, t_k, t_b))
+    bench = f"LQ path T={T}, M={M}, n={sys.n}"
+    check = f"max abs. diff. of x, u: {dx:.1e}; of c_t, V_M: {max(dc, dv):.1e} rel."
+    return [
+        Row(bench, "orrc.simulate vs floor loop (law + dynamics)", fmt_time(to), fmt_time(tf),
+            f"{to / tf:.2f}× the floor", f"≤ {TARGET_RATIO:g}×, orrc < {TARGET_SECONDS:g} s",
+            bool(to / tf <= TARGET_RATIO and to < TARGET_SECONDS), check,
+            dict(t_orrc=to, t_floor=tf, ratio=to / tf)),
+        Row(bench, "orrc.simulate vs floor loop, K and L fused", fmt_time(to), fmt_time(tk),
+            f"{to / tk:.2f}× the fused floor", "—", None, "u_t = −[K L][x_t; vec W_t]: one product per step",
+            dict(t_orrc=to, t_fused=tk, ratio=to / tk)),
+        Row(bench, "orrc.simulate vs loop + costs + V_M", fmt_time(to), fmt_time(tb),
+            f"{to / tb:.2f}×", "—", None, "same outputs as orrc (x, u, c_t, V_M)",
+            dict(t_orrc=to, t_book=tb, ratio=to / tb)),
+        Row(bench + ", build (once per controller)", "PreviewRHC(...): LQPreviewLaw K, L, H",
+            fmt_time(float(np.median(builds))), "—", "—", "—", None, "",
+            dict(t_build=float(np.median(builds)))),
+    ]

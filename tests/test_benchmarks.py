@@ -1,0 +1,75 @@
+"""Smoke test of the performance benchmarks (``make bench``) at tiny sizes.
+
+Correctness, not timing: each benchmark still runs, its two computations agree
+(the pendulum: orrc and python-control's ``solve_ocp`` reach the same optimum,
+judged by an independent rollout of the cost; the LQ path: ``orrc.simulate`` and
+the bare numpy loop produce the same trajectory), and the checks that enforce this
+do fail when the answers differ.
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:  # `python -m pytest` from the root has it; plain `pytest` may not
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks import lq_path, pendulum, run  # noqa: E402
+from benchmarks.common import CheckFailed  # noqa: E402
+
+
+def test_pendulum_orrc_and_solve_ocp_reach_the_same_optimum():
+    rows = pendulum.run(M=5, thetas=(0.5, 1.0), reps_orrc=1, reps_peer=1)
+    cold = [r for r in rows if r.ok is not None]
+    assert [r.data["theta0"] for r in cold] == [0.5, 1.0]
+    for r in cold:
+        d = r.data
+        assert np.isfinite(d["J_orrc"]) and d["J_orrc"] > 0
+        assert abs(d["J_peer"] - d["J_orrc"]) <= 1e-4 * d["J_orrc"]
+        assert d["t_orrc"] > 0 and d["t_peer"] > 0
+
+
+def test_pendulum_referee_is_independent_and_catches_a_wrong_answer(monkeypatch):
+    # the numpy referee against a hand-computed first step
+    x0, u, w = np.array([0.3, -0.2]), np.array([1.5]), np.array([0.01, -0.02])
+    x1 = np.array([0.3 + 0.05 * -0.2, -0.2 + 0.05 * (9.81 * np.sin(0.3) - 0.1 * -0.2 + 1.5)]) + w
+    assert np.allclose(pendulum.step(x0, u, w), x1, rtol=0, atol=1e-15)
+    J = pendulum.rollout_cost(x0, np.array([u, [0.0]]), np.array([w, w]))
+    assert J == pytest.approx(10 * 0.09 + 0.04 + 0.1 * 2.25 + 10 * x1[0] ** 2 + x1[1] ** 2, rel=1e-14)
+    # a peer that returns a suboptimal sequence is caught
+    real = pendulum.solve_ocp
+
+    def worse(x0, W, M):
+        U, res = real(x0, W, M)
+        return U + 0.5, res
+
+    monkeypatch.setattr(pendulum, "solve_ocp", worse)
+    with pytest.raises(CheckFailed, match="values differ"):
+        pendulum.run(M=5, thetas=(0.5,), reps_orrc=1, reps_peer=1)
+
+
+def test_lq_path_orrc_equals_the_bare_loop():
+    rows = lq_path.run(T=30, M=6, reps=1)
+    main = rows[0]
+    assert main.ok is not None and main.data["t_orrc"] > 0 and main.data["t_floor"] > 0
+    assert "x, u" in main.check
+
+
+def test_lq_path_check_catches_a_different_law(monkeypatch):
+    real = lq_path.bare_loop
+
+    def perturbed(A, B, K, L, w_all, x0, T, M):
+        return real(A, B, K * (1 + 1e-6), L, w_all, x0, T, M)
+
+    monkeypatch.setattr(lq_path, "bare_loop", perturbed)
+    with pytest.raises(CheckFailed, match="disagree"):
+        lq_path.run(T=30, M=6, reps=1)
+
+
+def test_run_quick_prints_a_table_and_succeeds(capsys):
+    assert run.main(["--quick"]) == 0
+    out = capsys.readouterr().out
+    assert "| benchmark |" in out and "pendulum M=5" in out and "LQ path T=40" in out
+    assert "targets not judged" in out
