@@ -14,6 +14,7 @@ from .solvers.nlp import SolverWarning
 from .solvers.plan import Plan
 from .systems import LinearSystem, NonlinearSystem, System
 from . import config, disturbances, examples
+from . import certify, checks, theory
 
 __version__ = "0.1.0"
 

@@ -1,0 +1,167 @@
+"""Lemma 1, Lemma 2 and Theorem 1 checked step by step along a simulated trajectory.
+
+Each function takes a :class:`~orrc.Trajectory` of Algorithm 1 (``PreviewRHC``: it
+reports V_M at every step in ``traj.values``) and the paper's constants, and returns
+the margins ``bound - actual`` of the inequality at every step: a margin >= 0 means the
+inequality holds there. Use ``result.holds()`` to test all steps up to rounding.
+
+Indices are 0-based (t = 0..T-1 for the paper's t = 1..T). The increment of V_M at
+step t involves the previewed window w_t..w_{t+M-1}, which ``traj.w_all`` holds (it
+includes the preview tail past T, as the controller saw it).
+
+The constants must be valid for the problem that was simulated: σ(x) = ``traj.sigma``,
+c_t >= alpha_lo σ(x), V_M(x, W) <= alpha_hi σ(x) + gamma_bar Σ‖w_k‖² (for instance from
+:func:`orrc.certify.lq_constants`), and the time-invariant cost used by the controller.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
+
+from . import theory
+from ._validate import OrrcValueError, as_int
+
+__all__ = ["Margins", "lemma1_margins", "lemma2_margins", "theorem1_margin"]
+
+
+@dataclass
+class Margins:
+    """Step-by-step margins of one inequality of the paper.
+
+    t : the step index of each margin (the meaning is given by ``what``).
+    bound, actual : the two sides; margin = bound - actual (>= 0: the inequality holds).
+    what : which inequality, in words.
+    """
+
+    t: np.ndarray
+    bound: np.ndarray
+    actual: np.ndarray
+    margin: np.ndarray
+    what: str
+
+    def holds(self, rtol: float = 1e-9, atol: float = 1e-12) -> bool:
+        """All margins >= -(rtol·(|bound| + |actual|) + atol): the inequality holds up to rounding."""
+        return bool(np.all(self.margin >= -(rtol * (np.abs(self.bound) + np.abs(self.actual)) + atol)))
+
+    def violations(self, rtol: float = 1e-9, atol: float = 1e-12) -> np.ndarray:
+        """The steps t where the inequality fails beyond rounding."""
+        bad = self.margin < -(rtol * (np.abs(self.bound) + np.abs(self.actual)) + atol)
+        return self.t[bad]
+
+    def __len__(self):
+        return len(self.margin)
+
+    def __repr__(self):
+        m = float(self.margin.min()) if len(self.margin) else float("nan")
+        return f"Margins({self.what}: {len(self.margin)} steps, smallest margin {m:.4g})"
+
+
+@dataclass
+class Lemma1Margins:
+    """Both parts of Lemma 1: ``lower`` (V^t_M >= α_lo σ(x_t)) and ``increment``
+    (V^{t+1}_M - V^t_M <= Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖²), with Γ_V, Γ^γ_V."""
+
+    lower: Margins
+    increment: Margins
+    Gamma_V: float
+    Gamma_V_gamma: float
+
+    def holds(self, rtol: float = 1e-9, atol: float = 1e-12) -> bool:
+        return self.lower.holds(rtol, atol) and self.increment.holds(rtol, atol)
+
+
+def _trajectory(traj, M):
+    from .simulate import Trajectory
+
+    if not isinstance(traj, Trajectory):
+        raise OrrcValueError(f"traj must be an orrc Trajectory (from orrc.simulate); got {type(traj).__name__}")
+    if traj.values is None:
+        raise OrrcValueError(
+            f"the trajectory has no V_M values (controller {traj.controller!r}); simulate Algorithm 1 "
+            "(orrc.PreviewRHC), which reports V_M at every step")
+    M = as_int("M", M, minimum=2)
+    if traj.preview_w != M:
+        raise OrrcValueError(
+            f"M={M} but the trajectory's controller previewed M_w={traj.preview_w} disturbances; the "
+            "lemmas are about the controller's own horizon")
+    e = np.einsum("ij,ij->i", traj.w_all, traj.w_all)
+    if len(e) < traj.T + M - 1:
+        raise OrrcValueError(f"traj.w_all has {len(e)} rows; expected at least T + M - 1 = {traj.T + M - 1}")
+    return traj, M, e
+
+
+def _window_energy(e: np.ndarray, M: int, count: int) -> np.ndarray:
+    """S_t = Σ_{k=t}^{t+M-1} ‖w_k‖² for t = 0..count-1."""
+    cs = np.concatenate([[0.0], np.cumsum(e)])
+    t = np.arange(count)
+    return cs[t + M] - cs[t]
+
+
+def lemma1_margins(traj, M, alpha_lo, alpha_hi, gamma_bar) -> Lemma1Margins:
+    """Lemma 1 at every step of a trajectory of Algorithm 1.
+
+    * ``lower``: V^t_M - α_lo σ(x_t) for t = 0..T-1 (the first claim, V_M >= α_lo σ);
+    * ``increment``: [Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖²] - (V^{t+1}_M - V^t_M) for
+      t = 0..T-2, with Γ_V, Γ^γ_V of :func:`orrc.theory.Gamma_V` / ``Gamma_V_gamma``.
+
+    Lemma 1 holds for every M >= 2 (Γ_V may be positive below the horizon threshold).
+    """
+    traj, M, e = _trajectory(traj, M)
+    GV = theory.Gamma_V(M, alpha_lo, alpha_hi)
+    GVg = theory.Gamma_V_gamma(M, alpha_lo, alpha_hi, gamma_bar)
+    V, sig, T = traj.values, traj.sigma, traj.T
+    t = np.arange(T)
+    lower_bound = float(alpha_lo) * sig[:T]
+    lower = Margins(t, V.copy(), lower_bound, V - lower_bound, "V_M(x_t) >= alpha_lo σ(x_t)")
+    ti = np.arange(T - 1)
+    inc_bound = GV * sig[:T - 1] + GVg * _window_energy(e, M, T - 1)
+    inc_actual = V[1:] - V[:-1]
+    increment = Margins(ti, inc_bound, inc_actual, inc_bound - inc_actual,
+                        "V_M(x_{t+1}) - V_M(x_t) <= Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖²")
+    return Lemma1Margins(lower, increment, GV, GVg)
+
+
+def lemma2_margins(traj, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> Margins:
+    """Lemma 2 at every anchor t of a trajectory: margin_t = bound_t - c_{t+H} for t = 0..T-1-H,
+
+        bound_t = ᾱ a^H σ(x_t) + Σ_{j=t}^{t+H+M-2} M_{w,j} ‖w_j‖²   (:func:`orrc.theory.lemma2_bound`).
+
+    Needs M above the horizon threshold, a in [min_decay_rate, 1), M <= H < T.
+    """
+    traj, M, e = _trajectory(traj, M)
+    H = as_int("H", H, minimum=1)
+    T = traj.T
+    if H >= T:
+        raise OrrcValueError(f"H must be < T = {T} (the cost c_(t+H) must be in the trajectory); got H={H}")
+    # validates every constant (threshold, a, H >= M) on the first anchor
+    theory.lemma2_bound(traj.sigma[0], traj.w_all[:H + M - 1], M, H, a, alpha_lo, alpha_hi, gamma_bar)
+    coef = theory.lemma2_coefficients(M, H, a, alpha_hi, gamma_bar,
+                                      theory.decay_b(alpha_lo, alpha_hi, gamma_bar))
+    count = T - H
+    windows = sliding_window_view(e, H + M - 1)[:count]
+    bound = float(alpha_hi) * float(a) ** H * traj.sigma[:count] + windows @ coef
+    actual = traj.costs[H:H + count]
+    return Margins(np.arange(count), bound, actual, bound - actual,
+                   f"c_(t+H) <= alpha_hi a^H σ(x_t) + Σ M_(w,j) ‖w_j‖² (H={H})")
+
+
+def theorem1_margin(traj, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> Margins:
+    """Theorem 1 along the trajectory: for every horizon T' = 1..T,
+
+        margin_{T'} = C_{T'}(γ) - R^p_{T'}(γ),   R^p_{T'}(γ) = Σ_{t<T'} c_t - γ Σ_{t<T'} ‖w_t‖²,
+
+    with C the explicit constant of :func:`orrc.theory.theorem1_constant` (it depends on
+    σ(x_0), the first M and the last M-2 previewed disturbances). Needs γ >= γ_c.
+    ``t`` holds T' and ``actual`` the running R^p_{T'}(γ).
+    """
+    traj, M, e = _trajectory(traj, M)
+    T = traj.T
+    # validates everything (threshold, a, gamma >= gamma_c) at the full horizon
+    theory.theorem1_constant(traj.sigma[0], traj.w_all, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
+    Ts = np.arange(1, T + 1)
+    C = theory._theorem1_constants(float(traj.sigma[0]), e, Ts, M, float(a), float(alpha_lo),
+                                   float(alpha_hi), float(gamma_bar), float(gamma))
+    R = np.cumsum(traj.costs - float(gamma) * e[:T])
+    return Margins(Ts, C, R, C - R, "R^p_T(gamma) <= C (Theorem 1, explicit O(1))")

@@ -1,0 +1,366 @@
+"""The known-system theory of the paper (Section 5.1) as pure functions of its constants.
+
+Every function here takes the paper's constants and returns a number (or an array
+of coefficients); none of them knows about a system, a controller or a trajectory.
+Computing the constants of a concrete problem is :mod:`orrc.certify`; checking the
+inequalities along a simulated trajectory is :mod:`orrc.checks`.
+
+The constants (Assumption 2 and the class of systems of Section 5.1):
+
+* ``alpha_lo`` (α_lo, the paper's α underbar): c_t(x, u) >= α_lo σ(x);
+* ``alpha_hi`` (ᾱ) and ``gamma_bar`` (γ̄): V_M(x, W) <= ᾱ σ(x) + γ̄ Σ_k ‖w_k‖² for all x, W;
+* ``M``: the preview horizon (M >= 2 in Lemma 1, M > ᾱ²/α_lo² + 1 in Lemma 2 and Theorem 1);
+* ``a`` (decay rate) and ``b`` = γ̄ (α_lo/ᾱ + 1) of Lemma 2.
+
+Functions (the statement of the paper they implement):
+
+* :func:`horizon_threshold` -- ᾱ²/α_lo² + 1; M must exceed it (Lemma 2, Theorem 1);
+* :func:`min_decay_rate` -- the infimum of the admissible a (Lemma 2, Theorem 1);
+* :func:`decay_b` -- b = γ̄(α_lo/ᾱ + 1) (Lemma 2);
+* :func:`Gamma_V`, :func:`Gamma_V_gamma` -- Γ_V and Γ^γ_V of Lemma 1;
+* :func:`lemma2_coefficients`, :func:`lemma2_bound` -- the M_{w,j} and the right-hand side of Lemma 2;
+* :func:`gamma_c` -- γ_c of Theorem 1;
+* :func:`theorem1_constant` -- the O(1) of Theorem 1, made explicit;
+* :func:`gamma_tilde`, :func:`gamma_c_remark` -- the remark after Theorem 1.
+
+Indices are 0-based as in the rest of ``orrc``: the paper's t = 1..T is t = 0..T-1.
+
+Bad input (non-positive constants, α_lo > ᾱ, M not above the threshold where the
+result needs it, a outside its admissible range) raises :class:`~orrc.OrrcValueError`,
+a ``ValueError``, with a message naming the argument.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._validate import OrrcValueError, as_array, as_float, as_int
+
+__all__ = [
+    "horizon_threshold", "above_threshold", "min_decay_rate", "decay_b", "Gamma_V", "Gamma_V_gamma",
+    "lemma2_coefficients", "lemma2_bound", "gamma_c", "theorem1_constant", "gamma_tilde",
+    "gamma_c_remark",
+]
+
+# relative slack allowed when a decay rate recomputed elsewhere equals min_decay_rate up to rounding
+_A_RTOL = 1e-12
+
+
+# -- validation ---------------------------------------------------------------------------------
+def _alphas(alpha_lo, alpha_hi) -> tuple[float, float]:
+    alpha_lo = as_float("alpha_lo", alpha_lo, minimum=0.0, strict_min=True)
+    alpha_hi = as_float("alpha_hi", alpha_hi, minimum=0.0, strict_min=True)
+    if alpha_lo > alpha_hi:
+        raise OrrcValueError(
+            f"alpha_lo must be <= alpha_hi (V_M(x, 0) >= c(x, u) >= alpha_lo σ(x) and V_M(x, 0) <= "
+            f"alpha_hi σ(x) force it); got alpha_lo={alpha_lo}, alpha_hi={alpha_hi}")
+    return alpha_lo, alpha_hi
+
+
+def _gamma_bar(gamma_bar) -> float:
+    return as_float("gamma_bar", gamma_bar, minimum=0.0, strict_min=True)
+
+
+def _M(M) -> int:
+    return as_int("M", M, minimum=2)
+
+
+def above_threshold(M, alpha_lo, alpha_hi) -> bool:
+    """True when M > ᾱ²/α_lo² + 1 (the horizon condition of Lemma 2 and Theorem 1).
+
+    Evaluated as ᾱ² < α_lo² (M - 1), the same comparison as Γ_V < 0 in Lemma 1.
+    """
+    M = _M(M)
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    return alpha_hi * alpha_hi < alpha_lo * alpha_lo * (M - 1)
+
+
+def _require_threshold(M: int, alpha_lo: float, alpha_hi: float) -> None:
+    if not alpha_hi * alpha_hi < alpha_lo * alpha_lo * (M - 1):
+        thr = alpha_hi ** 2 / alpha_lo ** 2 + 1
+        raise OrrcValueError(
+            f"M={M} is not above the horizon threshold alpha_hi²/alpha_lo² + 1 = {thr:.6g} "
+            f"(alpha_lo={alpha_lo:.6g}, alpha_hi={alpha_hi:.6g}); Lemma 2 and Theorem 1 need "
+            f"M > threshold, i.e. M >= {math.floor(thr) + 1}")
+
+
+def _decay(a, M: int, alpha_lo: float, alpha_hi: float) -> float:
+    a = as_float("a", a)
+    a_min = 1.0 - (alpha_lo - alpha_hi ** 2 / ((M - 1) * alpha_lo)) / alpha_hi
+    if not (a >= a_min * (1.0 - _A_RTOL) and a < 1.0):
+        raise OrrcValueError(
+            f"a must lie in [min_decay_rate, 1) = [{a_min:.10g}, 1) for M={M}, alpha_lo={alpha_lo:.6g}, "
+            f"alpha_hi={alpha_hi:.6g} (Lemma 2: 1 > a >= 1 - ε̃/alpha_hi); got a={a}")
+    return a
+
+
+# -- Lemma 1 --------------------------------------------------------------------------------------
+def horizon_threshold(alpha_lo, alpha_hi) -> float:
+    """ᾱ²/α_lo² + 1: Lemma 2 and Theorem 1 hold for every integer M strictly above it.
+
+    It is the M at which Lemma 1's Γ_V = ᾱ²/(α_lo(M-1)) - α_lo changes sign: above it
+    V_M decreases along the closed loop when there is no disturbance.
+    """
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    return alpha_hi ** 2 / alpha_lo ** 2 + 1.0
+
+
+def Gamma_V(M, alpha_lo, alpha_hi) -> float:
+    """Γ_V = ᾱ²/(α_lo (M-1)) - α_lo  (Lemma 1; Appendix A, last display).
+
+    The coefficient of σ(x_t) in V^{t+1}_M - V^t_M <= Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖².
+    Negative exactly when M > ᾱ²/α_lo² + 1 (:func:`horizon_threshold`). Needs M >= 2.
+    """
+    M = _M(M)
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    return alpha_hi ** 2 / (alpha_lo * (M - 1)) - alpha_lo
+
+
+def Gamma_V_gamma(M, alpha_lo, alpha_hi, gamma_bar) -> float:
+    """Γ^γ_V = γ̄ (ᾱ/(α_lo (M-1)) + 1)  (Lemma 1; Appendix A, last display).
+
+    The coefficient of the previewed disturbance energy Σ_{k=t}^{t+M-1} ‖w_k‖² in the
+    increment bound of Lemma 1. Needs M >= 2.
+    """
+    M = _M(M)
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    gamma_bar = _gamma_bar(gamma_bar)
+    return gamma_bar * (alpha_hi / (alpha_lo * (M - 1)) + 1.0)
+
+
+# -- Lemma 2 --------------------------------------------------------------------------------------
+def min_decay_rate(M, alpha_lo, alpha_hi) -> float:
+    """The smallest admissible decay rate a of Lemma 2 and Theorem 1:
+
+        a_min = 1 - (α_lo - ᾱ²/((M-1) α_lo)) / ᾱ.
+
+    The lemma allows any a with 1 > a >= 1 - ε̃/ᾱ and 0 < ε̃ < α_lo - ᾱ²/((M-1)α_lo), so
+    a_min is the infimum; the proof (Appendix B: Γ_V <= -ε̃ and the recursion
+    V^{t+1} <= a V^t + b Σ‖w‖²) also goes through at ε̃ = α_lo - ᾱ²/((M-1)α_lo), so
+    ``orrc`` admits a = a_min itself. Always 0 < a_min < 1 above the threshold.
+    Raises when M is not above :func:`horizon_threshold`.
+    """
+    M = _M(M)
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    _require_threshold(M, alpha_lo, alpha_hi)
+    return 1.0 - (alpha_lo - alpha_hi ** 2 / ((M - 1) * alpha_lo)) / alpha_hi
+
+
+def decay_b(alpha_lo, alpha_hi, gamma_bar) -> float:
+    """b = γ̄ (α_lo/ᾱ + 1)  (Lemma 2), the input gain of the recursion
+    V^{t+1}_M <= a V^t_M + b Σ_{k=t}^{t+M-1} ‖w_k‖² (Appendix B)."""
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    gamma_bar = _gamma_bar(gamma_bar)
+    return gamma_bar * (alpha_lo / alpha_hi + 1.0)
+
+
+def lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, b) -> np.ndarray:
+    """The coefficients M_{w,j} of Lemma 2, for j = t, ..., t_H + M - 2 (returned with offset j - t).
+
+    With t_H = t + H and H >= M (Lemma 2; Appendix B, last display):
+
+        M_{w,j} = b a^{H-M}/(1-a) + a^H γ̄     for t <= j <= t+M-1,
+        M_{w,j} = b a^{t_H-j-1}/(1-a)         for t+M <= j <= t_H-1,
+        M_{w,j} = b/(1-a)                     for t_H <= j <= t_H+M-2.
+
+    Returns an array of length H + M - 1 (entry k is M_{w,t+k}). ``alpha_hi`` is only
+    validated (the coefficients do not depend on it; it sets M_λ = ᾱ in
+    :func:`lemma2_bound`). The caller is responsible for a being admissible for the
+    constants (see :func:`min_decay_rate`); here 0 < a < 1 is checked.
+    """
+    M = _M(M)
+    H = as_int("H", H, minimum=1)
+    if H < M:
+        raise OrrcValueError(f"Lemma 2 needs H >= M; got H={H}, M={M}")
+    a = as_float("a", a, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
+    as_float("alpha_hi", alpha_hi, minimum=0.0, strict_min=True)
+    gamma_bar = _gamma_bar(gamma_bar)
+    b = as_float("b", b, minimum=0.0, strict_min=True)
+    k = np.arange(H + M - 1)
+    out = np.empty(H + M - 1)
+    first = k < M
+    middle = (k >= M) & (k < H)
+    last = k >= H
+    out[first] = b * a ** (H - M) / (1.0 - a) + a ** H * gamma_bar
+    out[middle] = b * a ** (H - k[middle] - 1) / (1.0 - a)
+    out[last] = b / (1.0 - a)
+    return out
+
+
+def _energies(name: str, w) -> np.ndarray:
+    """‖w_j‖² per row of a (L, n) array; a 1-D array is a scalar disturbance (n = 1)."""
+    w = as_array(name, w)
+    if w.ndim == 1:
+        w = w[:, None]
+    if w.ndim != 2:
+        raise OrrcValueError(f"{name} must have shape (L, n) (or (L,) for n = 1); got shape {w.shape}")
+    return np.einsum("ij,ij->i", w, w)
+
+
+def lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> float:
+    """The right-hand side of Lemma 2: c_{t+H} <= ᾱ a^H σ(x_t) + Σ_{j=t}^{t_H+M-2} M_{w,j} ‖w_j‖².
+
+    Parameters
+    ----------
+    sigma_t : σ(x_t) >= 0.
+    w_window : (H + M - 1, n) the disturbances w_t, ..., w_{t+H+M-2} (a 1-D array is read
+        as a scalar disturbance sequence).
+    M, H : horizon (above the threshold) and look-ahead H >= M.
+    a : decay rate in [min_decay_rate(M, α_lo, ᾱ), 1).
+
+    The statement's M_λ e^{-λH} with M_λ = ᾱ, λ = -ln a is ᾱ a^H; the appendix's
+    "M_λ = a^H ᾱ" would count a^H twice (see paper-summary.md), so the statement's
+    reading is implemented. Coefficients: :func:`lemma2_coefficients`.
+    """
+    M = _M(M)
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    gamma_bar = _gamma_bar(gamma_bar)
+    _require_threshold(M, alpha_lo, alpha_hi)
+    a = _decay(a, M, alpha_lo, alpha_hi)
+    sigma_t = as_float("sigma_t", sigma_t, minimum=0.0)
+    H = as_int("H", H, minimum=1)
+    if H < M:
+        raise OrrcValueError(f"Lemma 2 needs H >= M; got H={H}, M={M}")
+    e = _energies("w_window", w_window)
+    if len(e) != H + M - 1:
+        raise OrrcValueError(
+            f"w_window must hold the H + M - 1 = {H + M - 1} disturbances w_t..w_(t+H+M-2); "
+            f"got {len(e)} rows")
+    coef = lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, decay_b(alpha_lo, alpha_hi, gamma_bar))
+    return float(alpha_hi * a ** H * sigma_t + coef @ e)
+
+
+# -- Theorem 1 ------------------------------------------------------------------------------------
+def gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar) -> float:
+    """γ_c = b ((M-1)(1-a) + 1) / (1-a)²  with b = γ̄ (α_lo/ᾱ + 1)  (Theorem 1).
+
+    The attenuation level certified by Theorem 1: R^p_T(γ) = O(1) for every γ >= γ_c.
+    Raises when M is not above :func:`horizon_threshold`, when a is outside
+    [:func:`min_decay_rate`, 1), or when a constant is non-positive or α_lo > ᾱ.
+    γ_c decreases as a decreases, so a = min_decay_rate gives the best γ_c; it is
+    always > 2γ̄ (the remark after Theorem 1).
+    """
+    M = _M(M)
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    gamma_bar = _gamma_bar(gamma_bar)
+    _require_threshold(M, alpha_lo, alpha_hi)
+    a = _decay(a, M, alpha_lo, alpha_hi)
+    b = gamma_bar * (alpha_lo / alpha_hi + 1.0)
+    return b * ((M - 1) * (1.0 - a) + 1.0) / (1.0 - a) ** 2
+
+
+def theorem1_constant(sigma0, w, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> float:
+    """The O(1) of Theorem 1 made explicit: a C with
+
+        Σ_{t=0}^{T-1} c_t(x_t, u_t) - γ Σ_{t=0}^{T-1} ‖w_t‖²  <=  C      for every γ >= γ_c,
+
+        C = ᾱ σ(x_0) (1 - a^T)/(1 - a)
+            + (γ̄/(1-a) + γ_c) Σ_{j=0}^{M-1} ‖w_j‖² - γ Σ_{j=0}^{min(M,T)-1} ‖w_j‖²
+            + b (M-1)/(1-a) Σ_{j=max(T,M)}^{T+M-3} ‖w_j‖².
+
+    (0-based: the paper's σ(x_1) is σ(x_0) here.) For γ >= γ_c and T >= M the middle
+    line is at most γ̄/(1-a) Σ_{j<M} ‖w_j‖², so C depends only on σ(x_0), the first M
+    disturbances and the last M-2 previewed ones: it is bounded in T, which is the
+    theorem's claim.
+
+    Derivation. Appendix C sums Lemma 2 (anchored at t = 0) over the costs c_H with
+    H >= M and states that the first M costs are O(1) without writing the bound (its
+    sum Σ_{H=1}^{M-1} also omits one cost, and its last sums use the 1-based index). Here
+    every cost is bounded, each by a consequence of the recursion of Appendix B,
+    V^{t+1} <= a V^t + b S_t with S_t = Σ_{k=t}^{t+M-1} ‖w_k‖², and c_H <= V^H:
+
+    * H >= M: Lemma 2 (:func:`lemma2_bound` with t = 0);
+    * H < M: c_H <= a^H V^0 + b Σ_{i<H} a^{H-1-i} S_i
+      <= a^H ᾱ σ(x_0) + a^H γ̄ Σ_{j<M} ‖w_j‖² + b (1-a^H)/(1-a) Σ_{j=0}^{H+M-2} ‖w_j‖²
+      (V^0 <= ᾱ σ(x_0) + γ̄ Σ_{j<M} ‖w_j‖²).
+
+    Summing over H = 0..T-1, the total coefficient κ_j of ‖w_j‖² is at most
+    γ̄/(1-a) + γ_c for j < M (the a^H γ̄ terms, the b a^{H-M}/(1-a) terms summing to
+    b/(1-a)², and at most M-1 terms b/(1-a)); at most γ_c for M <= j < T (at most M-1
+    terms b/(1-a) from the costs whose window contains j, and b a^{H-j-1}/(1-a) summing
+    to b/(1-a)²), so κ_j - γ <= 0 there when γ >= γ_c and those terms are dropped; and at
+    most b(M-1)/(1-a) for T <= j <= T+M-3 (the preview tail, which R^p_T does not
+    subtract). Adding ᾱ σ(x_0) Σ_{H<T} a^H gives C. This is exactly the paper's
+    bookkeeping with the first M costs written out.
+
+    Remark (not in the paper): summing the recursion itself, Σ_t c_t <= Σ_t V^t <=
+    V^0/(1-a) + b/(1-a) Σ_t S_t, gives the same kind of bound with the smaller level
+    bM/(1-a) = γ_c - ab/(1-a)²; going through Lemma 2's rounded-up coefficients costs
+    that difference. The function implements the paper's γ_c.
+
+    Parameters
+    ----------
+    sigma0 : σ(x_0) >= 0.
+    w : (L, n) disturbances w_0, w_1, ... including the previewed tail, L >= max(T+M-2, M)
+        (``Trajectory.w_all`` of a simulation has T + M rows); a 1-D array is n = 1.
+    T : number of steps (T >= 1; the theorem states T >= M + 1, the bound holds for all T).
+    M, a, alpha_lo, alpha_hi, gamma_bar : as in :func:`gamma_c` (M above the threshold).
+    gamma : attenuation level, gamma >= gamma_c (else the theorem says nothing: raises).
+    """
+    M = _M(M)
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    gamma_bar = _gamma_bar(gamma_bar)
+    _require_threshold(M, alpha_lo, alpha_hi)
+    a = _decay(a, M, alpha_lo, alpha_hi)
+    T = as_int("T", T, minimum=1)
+    sigma0 = as_float("sigma0", sigma0, minimum=0.0)
+    gc = gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar)
+    gamma = as_float("gamma", gamma)
+    if gamma < gc * (1.0 - _A_RTOL):
+        raise OrrcValueError(
+            f"Theorem 1 bounds R^p_T(gamma) only for gamma >= gamma_c = {gc:.6g}; got gamma={gamma:.6g}")
+    e = _energies("w", w)
+    need = max(T + M - 2, M)
+    if len(e) < need:
+        raise OrrcValueError(
+            f"w must hold w_0..w_(T+M-3) and w_0..w_(M-1), i.e. at least max(T+M-2, M) = {need} rows "
+            f"(use Trajectory.w_all, which includes the previewed tail); got {len(e)} rows")
+    return float(_theorem1_constants(sigma0, e, np.array([T]), M, a, alpha_lo, alpha_hi, gamma_bar, gamma)[0])
+
+
+def _theorem1_constants(sigma0, e, Ts, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> np.ndarray:
+    """:func:`theorem1_constant` for several T at once (inputs already validated; e = ‖w_j‖²)."""
+    b = gamma_bar * (alpha_lo / alpha_hi + 1.0)
+    gc = b * ((M - 1) * (1.0 - a) + 1.0) / (1.0 - a) ** 2
+    cs = np.concatenate([[0.0], np.cumsum(e)])
+
+    def energy(i, j):  # Σ_{i <= k < j} e_k, 0 when j <= i
+        return np.where(j > i, cs[np.maximum(j, i)] - cs[i], 0.0)
+
+    Ts = np.asarray(Ts)
+    head = (gamma_bar / (1.0 - a) + gc) * cs[M] - gamma * cs[np.minimum(M, Ts)]
+    tail = b * (M - 1) / (1.0 - a) * energy(np.maximum(Ts, M), Ts + M - 2)
+    return alpha_hi * sigma0 * (1.0 - a ** Ts.astype(float)) / (1.0 - a) + head + tail
+
+
+# -- the remark after Theorem 1 -------------------------------------------------------------------
+def gamma_tilde(alpha_lo, alpha_hi) -> float:
+    """γ̃ = ⌈ᾱ²/α_lo²⌉ α_lo / (ᾱ ((α_lo²/ᾱ²) ⌈ᾱ²/α_lo²⌉ - 1))  (remark after Theorem 1).
+
+    It equals 1/(1 - min_decay_rate(M, α_lo, ᾱ)) at M = ⌈ᾱ²/α_lo²⌉ + 1, the choice of M
+    behind the remark. It is undefined (division by zero) when ᾱ²/α_lo² is an integer
+    (then that M sits exactly on the threshold): raises in that case.
+    """
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    kappa = alpha_hi ** 2 / alpha_lo ** 2
+    N = math.ceil(kappa)
+    denom = (alpha_lo ** 2 / alpha_hi ** 2) * N - 1.0
+    if not denom > 0.0:
+        raise OrrcValueError(
+            f"gamma_tilde is undefined when alpha_hi²/alpha_lo² is an integer (the remark's "
+            f"M = ceil(alpha_hi²/alpha_lo²) + 1 is then on the threshold); got alpha_hi²/alpha_lo² = {kappa!r}")
+    return N * alpha_lo / (alpha_hi * denom)
+
+
+def gamma_c_remark(alpha_lo, alpha_hi, gamma_bar) -> float:
+    """2 (1 + α_lo/ᾱ)(γ̃ ᾱ²/α_lo² + γ̃²) γ̄  (remark after Theorem 1).
+
+    The paper says M and a can be chosen so that this value ⪆ γ_c >= 2γ̄. With
+    M = ⌈ᾱ²/α_lo²⌉ + 1 and a = min_decay_rate, γ_c = b(⌈ᾱ²/α_lo²⌉ γ̃ + γ̃²), which is
+    at most this value. Raises where :func:`gamma_tilde` does.
+    """
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    gamma_bar = _gamma_bar(gamma_bar)
+    gt = gamma_tilde(alpha_lo, alpha_hi)
+    return 2.0 * (1.0 + alpha_lo / alpha_hi) * (gt * alpha_hi ** 2 / alpha_lo ** 2 + gt * gt) * gamma_bar
