@@ -17,3 +17,22 @@ def random_lq(rng, n=3, m=2, spectral_radius=1.2):
     H = rng.standard_normal((m, m))
     R = H @ H.T / m + 0.1 * np.eye(m)
     return A, B, Q, R
+
+
+def batch_optimum(A, B, Q, R, M, x, W):
+    """The M-step optimum by condensing: x_j = A^j x + Σ A^{j-1-i}(B u_i + w_i); one linear solve."""
+    n, m = B.shape
+    Phi = np.zeros((M * n, n))
+    Gu = np.zeros((M * n, M * m))
+    Gw = np.zeros((M * n, M * n))
+    for j in range(M):  # rows for x_j, j = 0..M-1 (x_M is not costed)
+        Phi[j * n:(j + 1) * n] = np.linalg.matrix_power(A, j)
+        for i in range(j):
+            Aji = np.linalg.matrix_power(A, j - 1 - i)
+            Gu[j * n:(j + 1) * n, i * m:(i + 1) * m] = Aji @ B
+            Gw[j * n:(j + 1) * n, i * n:(i + 1) * n] = Aji
+    Qb, Rb = np.kron(np.eye(M), Q), np.kron(np.eye(M), R)
+    c = Phi @ x + Gw @ W.reshape(-1)
+    U = np.linalg.solve(Gu.T @ Qb @ Gu + Rb, -Gu.T @ Qb @ c)
+    X = c + Gu @ U
+    return U.reshape(M, m), float(X @ Qb @ X + U @ Rb @ U)

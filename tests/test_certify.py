@@ -8,6 +8,7 @@ from scipy import linalg
 
 import orrc
 from orrc import certify, theory
+from conftest import batch_optimum
 
 
 def random_problem(seed, n=None, m=None):
@@ -24,21 +25,8 @@ def random_problem(seed, n=None, m=None):
 
 
 def condensed_value(A, B, Q, R, M, x, W):
-    """V_M(x, W) by condensing the M-step problem into one least-squares solve (independent of H)."""
-    n, m = B.shape
-    Phi = np.vstack([np.linalg.matrix_power(A, j) for j in range(M)])
-    Gu = np.zeros((M * n, M * m))
-    Gw = np.zeros((M * n, M * n))
-    for j in range(M):
-        for i in range(j):
-            Aji = np.linalg.matrix_power(A, j - 1 - i)
-            Gu[j * n:(j + 1) * n, i * m:(i + 1) * m] = Aji @ B
-            Gw[j * n:(j + 1) * n, i * n:(i + 1) * n] = Aji
-    Qb, Rb = np.kron(np.eye(M), Q), np.kron(np.eye(M), R)
-    c = Phi @ x + Gw @ W.reshape(-1)
-    U = np.linalg.solve(Gu.T @ Qb @ Gu + Rb, -Gu.T @ Qb @ c)
-    X = c + Gu @ U
-    return float(X @ Qb @ X + U @ Rb @ U)
+    """V_M(x, W) by condensing the M-step problem into one linear solve (independent of H)."""
+    return batch_optimum(A, B, Q, R, M, x, W)[1]
 
 
 # -- exact LQ constants ----------------------------------------------------------------------------
