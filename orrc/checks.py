@@ -21,9 +21,9 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from . import theory
-from ._validate import OrrcValueError, as_int
+from ._validate import OrrcValueError, as_float, as_int
 
-__all__ = ["Margins", "lemma1_margins", "lemma2_margins", "theorem1_margin"]
+__all__ = ["Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins", "theorem1_margin"]
 
 
 @dataclass
@@ -97,6 +97,25 @@ def _window_energy(e: np.ndarray, M: int, count: int) -> np.ndarray:
     cs = np.concatenate([[0.0], np.cumsum(e)])
     t = np.arange(count)
     return cs[t + M] - cs[t]
+
+
+def value_bound_margins(traj, M, alpha_hi, gamma_bar) -> Margins:
+    """The class condition of Section 5.1 at every step: margin_t = bound_t - V^t_M for t = 0..T-1,
+
+        bound_t = ᾱ σ(x_t) + γ̄ Σ_{k=t}^{t+M-1} ‖w_k‖²   (the hypothesis of Lemma 1).
+
+    Certified constants (:func:`orrc.certify.lq_constants`) satisfy it for every x and W;
+    sampled estimates (:func:`orrc.certify.sampled_constants`) are lower bounds on the true
+    constants, and a negative margin here shows that an estimate is too small.
+    """
+    traj, M, e = _trajectory(traj, M)
+    alpha_hi = as_float("alpha_hi", alpha_hi, minimum=0.0, strict_min=True)
+    gamma_bar = as_float("gamma_bar", gamma_bar, minimum=0.0, strict_min=True)
+    T = traj.T
+    bound = alpha_hi * traj.sigma[:T] + gamma_bar * _window_energy(e, M, T)
+    V = traj.values
+    return Margins(np.arange(T), bound, V.copy(), bound - V,
+                   "V_M(x_t) <= alpha_hi σ(x_t) + gamma_bar Σ_{k=t}^{t+M-1} ‖w_k‖²")
 
 
 def lemma1_margins(traj, M, alpha_lo, alpha_hi, gamma_bar) -> Lemma1Margins:

@@ -146,3 +146,26 @@ def test_check_errors(scalar_run):
         checks.theorem1_margin(traj, M, c.a, *args, 0.5 * c.gamma_c)
     with pytest.raises(ValueError, match="Trajectory"):
         checks.lemma1_margins("traj", M, *args)
+
+
+def test_value_bound_margins(scalar_run):
+    """The class condition V_M <= ᾱσ + γ̄Σ‖w‖² along the run: recomputed step by step from the
+    value matrix H, it holds for the certified pair, and fails once γ̄ is far too small."""
+    ex, M, c, traj = scalar_run
+    vb = checks.value_bound_margins(traj, M, c.alpha_hi, c.gamma_bar)
+    assert vb.holds() and len(vb) == traj.T
+    H = c.info["H"]
+    for t in range(0, traj.T, 7):
+        z = np.concatenate([traj.x[t], traj.w_all[t:t + M].ravel()])
+        assert vb.actual[t] == pytest.approx(z @ H @ z, rel=1e-9)
+        bound = c.alpha_hi * traj.x[t] @ traj.x[t] + c.gamma_bar * np.sum(traj.w_all[t:t + M] ** 2)
+        assert vb.bound[t] == pytest.approx(bound, rel=1e-12)
+    # a run that starts at rest and is driven only by disturbances needs γ̄ (σ(x_0) = 0)
+    w = np.zeros((20 + M, 1))
+    w[:M] = 1.0
+    quiet = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, M), np.zeros(1), w, 20)
+    assert checks.value_bound_margins(quiet, M, c.alpha_hi, c.gamma_bar).holds()
+    bad = checks.value_bound_margins(quiet, M, c.alpha_hi, 1e-3 * quiet.values[0] / M)
+    assert not bad.holds() and bad.violations()[0] == 0
+    with pytest.raises(ValueError, match="gamma_bar"):
+        checks.value_bound_margins(traj, M, c.alpha_hi, -1.0)
