@@ -18,7 +18,9 @@ Functions (the statement they illustrate):
 * :func:`gamma_c_map` -- γ_c of Theorem 1 against a (several M) and against M;
 * :func:`attenuation_levels` -- certified γ_c beside the attenuation actually achieved, against M;
 * :func:`regret_growth` -- R^p_t(γ) against t, with Theorem 1's explicit ceiling;
-* :func:`adversary` -- worst-case disturbances and the stage costs they cause.
+* :func:`adversary` -- worst-case disturbances and the stage costs they cause;
+* :func:`theorem1_frame` -- an explorer frame of Theorem 1: γ_c(a) and the ceiling on R^p_t for one (M, a);
+* :func:`attenuation_vs_T` -- the exact finite-T worst case against T, with its cold and stationary limits.
 """
 from __future__ import annotations
 
@@ -31,7 +33,8 @@ from .._validate import OrrcValueError, as_array, as_float, as_int
 from .plots import _figure
 
 __all__ = ["pareto_curves", "horizon_threshold", "lemma1_check", "lemma2_coefficients", "bounds_vs_actual",
-           "lemma2_frame", "gamma_c_map", "attenuation_levels", "regret_growth", "adversary"]
+           "lemma2_frame", "gamma_c_map", "attenuation_levels", "regret_growth", "adversary", "theorem1_frame",
+           "attenuation_vs_T"]
 
 
 def _nonempty_dict(name: str, d) -> dict:
@@ -261,24 +264,32 @@ def lemma2_coefficients(coefs: dict, M: int, H: int, ax=None) -> Figure:
 
 
 def bounds_vs_actual(x, actual, bounds: dict, xlabel: str = "$t$", ylabel: str = "", log: bool = True,
-                     title: str | None = None, actual_label: str = "actual", ax=None, fast: bool = False) -> Figure:
+                     title: str | None = None, actual_label: str = "actual", ax=None, fast: bool = False,
+                     legend: str = "best") -> Figure:
     """A measured sequence (``actual`` at the points ``x``) under one or more bounds
     (``bounds``: label -> array like ``actual``), on a log scale by default. Used for
-    Lemma 2's bound on the stage cost c_{t+H} and its parts."""
+    Lemma 2's bound on the stage cost c_{t+H} (Eq. of Lemma 2) and its parts.
+
+    On a log scale, points where ``actual`` is not positive are left out (a stage cost
+    of exactly 0). ``legend``: "best" (inside the axes) or "below" (under the axes,
+    clear of the data; for figures with several curves).
+    """
+    if legend not in ("best", "below"):
+        raise OrrcValueError(f'legend must be "best" or "below"; got {legend!r}')
     x = as_array("x", x, ndim=1)
     actual = as_array("actual", actual, (len(x),))
     bounds = _nonempty_dict("bounds", bounds)
     own = ax is None
     if own:
-        fig, axes = _figure(width=6.4, height=3.4, fast=fast)
+        fig, axes = _figure(width=6.4, height=4.2 if legend == "below" else 3.4, fast=fast)
         ax = axes[0, 0]
     else:
         fig = ax.figure
     styles = ["-", "--", ":", "-."]
+    colours = ["tab:red", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:gray"]  # never the actual's blue
     for i, (label, b) in enumerate(bounds.items()):
         b = as_array(f"bounds[{label!r}]", b, (len(x),))
-        ax.plot(x, b, color="tab:red" if i == 0 else f"C{i + 2}", linestyle=styles[i % 4], linewidth=1.2,
-                label=label)
+        ax.plot(x, b, color=colours[i % len(colours)], linestyle=styles[i % 4], linewidth=1.2, label=label)
     pos = actual > 0 if log else np.ones(len(x), bool)
     ax.plot(x[pos], actual[pos], color="tab:blue", linewidth=1.4, marker=".", markersize=3, label=actual_label)
     if log:
@@ -287,23 +298,27 @@ def bounds_vs_actual(x, actual, bounds: dict, xlabel: str = "$t$", ylabel: str =
     ax.set_ylabel(ylabel)
     if title:
         ax.set_title(title, fontsize=10)
-    ax.legend(fontsize=8, loc="best")
+    if legend == "below":
+        _legend_below(ax, ncol=2)
+    else:
+        ax.legend(fontsize=8, loc="best")
     return fig
 
 
 def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int | None = None,
-                 ylim=None) -> Figure:
+                 ylim=None, coef_ylim=None) -> Figure:
     """One frame of the Lemma 2 explorer for the horizon M and decay rate a.
 
     When a >= ``a_min`` (:func:`orrc.theory.min_decay_rate`): left, the coefficients
     M_{w,j} (``coef``, length H + M - 1); right, the stage costs c_{t+H} under Lemma 2's
     bound along a trajectory (``margins`` from :func:`orrc.checks.lemma2_margins`),
     against the time t + H. When a < a_min the lemma does not apply and the frame says so.
-    ``ylim``: fixed limits of the right panel, so that frames compare at a glance.
+    ``ylim``, ``coef_ylim``: fixed limits of the right and left panels, so that frames
+    compare at a glance.
     """
     M = as_int("M", M, minimum=2)
-    a = as_float("a", a, minimum=0.0, maximum=1.0, strict_max=True)
-    a_min = as_float("a_min", a_min)
+    a = as_float("a", a, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
+    a_min = as_float("a_min", a_min, minimum=0.0, maximum=1.0, strict_max=True)
     fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=True)
     ax, ax2 = axes[0]
     if a < a_min:
@@ -319,8 +334,12 @@ def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int
     lemma2_coefficients({f"a = {a:g}": coef}, M, H, ax=ax)
     bounds_vs_actual(margins.t + H, margins.actual, {"Lemma 2 bound": margins.bound}, xlabel="time $t + H$",
                      ylabel="stage cost", actual_label=r"$c_{t+H}$", ax=ax2)
-    if ylim is not None:
-        ax2.set_ylim(*ylim)
+    for axis, lim, name in ((ax2, ylim, "ylim"), (ax, coef_ylim, "coef_ylim")):
+        if lim is not None:
+            lim = as_array(name, lim, (2,))
+            if not 0 < lim[0] < lim[1]:
+                raise OrrcValueError(f"{name} must be (low, high) with 0 < low < high (log scale); got {tuple(lim)}")
+            axis.set_ylim(*lim)
     ratio = float(np.median(margins.bound / np.maximum(margins.actual, 1e-300)))
     fig.suptitle(f"M = {M}, a = {a:g} (a_min = {a_min:.4f}), H = {H}: median bound / cost = {ratio:.3g}",
                  fontsize=11)
@@ -338,6 +357,8 @@ def gamma_c_map(curves: dict, a_min: dict, Ms, gamma_c_best, floor=None, title: 
     when given, the floor 2γ̄ of the remark after Theorem 1 (``floor``, aligned with Ms).
     """
     curves = _nonempty_dict("curves", curves)
+    if not isinstance(a_min, dict):
+        raise OrrcValueError(f"a_min must be a dict label -> (a_min, gamma_c); got {type(a_min).__name__}")
     Ms = np.array([as_int("M", m, minimum=2) for m in Ms])
     gcb = as_array("gamma_c_best", gamma_c_best, (len(Ms),))
     fig, axes = _figure(1, 2, width=10.0, height=3.6)
@@ -366,17 +387,23 @@ def gamma_c_map(curves: dict, a_min: dict, Ms, gamma_c_best, floor=None, title: 
 
 def attenuation_levels(Ms, levels: dict, threshold_M: int | None = None, title: str | None = None) -> Figure:
     """Attenuation levels against the horizon M on a log scale (``levels``: label -> values
-    aligned with ``Ms``; inf or nan where a level does not exist). A label containing
-    "LQR" is drawn as a horizontal line (it does not depend on M). ``threshold_M``:
-    the smallest M certified by Theorem 1; the horizons below it are shaded."""
+    aligned with ``Ms``; inf or nan where a level does not exist): Theorem 1's certified
+    γ_c beside the exact worst-case levels of :func:`orrc.certify.worst_case_attenuation_limit`.
+    A label containing "LQR" with a single number is drawn as a horizontal line (it does
+    not depend on M). Labels containing "certified", "floor", "stationary", "cold" or "LQR"
+    get fixed styles. ``threshold_M``: the smallest M certified by Theorem 1; the horizons
+    below it are shaded."""
     Ms = np.array([as_int("M", m, minimum=1) for m in Ms])
     levels = _nonempty_dict("levels", levels)
-    fig, ax = _figure(width=7.0, height=3.8)
+    fig, ax = _figure(width=7.0, height=4.2)
     ax = ax[0, 0]
-    styles = {"certified": ("tab:red", "-", "o"), "2": ("tab:red", ":", None), "stationary": ("tab:blue", "-", "s"),
-              "cold": ("tab:blue", "--", "^"), "lqr": ("tab:orange", "-", None)}
+    styles = {"lqr": ("tab:orange", "-", None), "certified": ("tab:red", "-", "o"), "floor": ("tab:red", ":", None),
+              "stationary": ("tab:blue", "-", "s"), "cold": ("tab:blue", "--", "^")}
     for i, (label, v) in enumerate(levels.items()):
-        v = np.asarray(v, dtype=float)
+        v = as_array(f"levels[{label!r}]", v, allow_nonfinite=True)
+        if v.ndim > 1 or (v.ndim == 1 and len(v) != len(Ms)):
+            raise OrrcValueError(f"levels[{label!r}] must be one number or {len(Ms)} values aligned with Ms; "
+                                 f"got shape {v.shape}")
         low = label.lower()
         col, ls, mk = next((s for k, s in styles.items() if k in low), (f"C{i}", "-", "."))
         if "lqr" in low and v.ndim == 0:
@@ -393,7 +420,7 @@ def attenuation_levels(Ms, levels: dict, threshold_M: int | None = None, title: 
                 ha="center", va="bottom", fontsize=8, color="0.3")
     ax.set_xlabel("horizon $M$")
     ax.set_ylabel(r"attenuation level $\gamma$")
-    ax.legend(fontsize=8, loc="center right")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
     if title:
         ax.set_title(title, fontsize=10)
     return fig
@@ -428,13 +455,14 @@ def regret_growth(t, R: dict, ceiling=None, title: str | None = None, ylim=None,
     return fig
 
 
-def adversary(ws: dict, costs: dict, title: str | None = None) -> Figure:
+def adversary(ws: dict, costs: dict, title: str | None = None, fast: bool = False) -> Figure:
     """Worst-case disturbances (``ws``: label -> (T, n) array, e.g. the ``w`` of
-    :func:`orrc.certify.worst_case_attenuation`) and the stage costs they cause
-    (``costs``: label -> (T,) array, same labels): the adversary made explicit."""
+    :func:`orrc.certify.worst_case_attenuation`; the norm ‖w_t‖ is drawn when n > 1) and
+    the stage costs they cause (``costs``: label -> (T,) array, same labels): the
+    adversary of R^p_T(γ) (Eq. 2) made explicit."""
     ws = _nonempty_dict("ws", ws)
     costs = _nonempty_dict("costs", costs)
-    fig, axes = _figure(1, 2, width=10.0, height=3.3)
+    fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=fast)
     ax, ax2 = axes[0]
     for i, (label, w) in enumerate(ws.items()):
         w = as_array(f"ws[{label!r}]", w, ndim=2)
@@ -459,4 +487,79 @@ def adversary(ws: dict, costs: dict, title: str | None = None) -> Figure:
     ax2.legend(fontsize=8)
     if title:
         fig.suptitle(title, fontsize=11)
+    if fast:
+        fig.subplots_adjust(top=0.80 if title else 0.88)
+    return fig
+
+
+def theorem1_frame(M: int, a: float, a_min: float, a_grid=None, gamma_c_grid=None, margin=None,
+                   ylim=None) -> Figure:
+    """One frame of the Theorem 1 explorer for the horizon M and the decay rate a.
+
+    When a >= ``a_min`` (:func:`orrc.theory.min_decay_rate`): left, γ_c = b((M-1)(1-a)+1)/(1-a)²
+    against a (``a_grid``, ``gamma_c_grid``: the admissible range at this M) with the chosen
+    a marked; right, R^p_t(γ_c) along a trajectory under Theorem 1's explicit ceiling C_t
+    (``margin`` from :func:`orrc.checks.theorem1_margin` at γ = γ_c(a): ``actual`` is
+    R^p_t, ``bound`` is C_t, against t = ``margin.t``). When a < a_min the theorem does
+    not apply and the frame says so. ``ylim``: fixed limits of the right panel.
+    """
+    M = as_int("M", M, minimum=2)
+    a = as_float("a", a, minimum=0.0, maximum=1.0, strict_max=True)
+    a_min = as_float("a_min", a_min, minimum=0.0, maximum=1.0, strict_max=True)
+    fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=True)
+    ax, ax2 = axes[0]
+    if a < a_min:
+        _message(ax, f"a = {a:g} is below the smallest admissible\ndecay rate at M = {M}: "
+                     f"a_min = {a_min:.4f}.\nTheorem 1 does not apply.")
+        _message(ax2, "no guarantee")
+        fig.suptitle(f"M = {M}, a = {a:g}: not admissible", fontsize=11)
+        fig.subplots_adjust(top=0.84)
+        return fig
+    if a_grid is None or gamma_c_grid is None or margin is None:
+        raise OrrcValueError("for an admissible a, theorem1_frame needs a_grid, gamma_c_grid and margin")
+    a_grid = as_array("a_grid", a_grid, ndim=1)
+    gcg = as_array("gamma_c_grid", gamma_c_grid, (len(a_grid),))
+    margin = _margins("margin", margin)
+    gc = float(np.interp(a, a_grid, gcg))
+    ax.semilogy(a_grid, gcg, color="tab:red", linewidth=1.4)
+    ax.plot([a], [gc], marker="o", color="tab:red", markeredgecolor="k", markersize=8)
+    ax.axvline(a_min, color="0.5", linestyle=":", linewidth=1.0)
+    ax.set_xlabel(r"decay rate $a$ (dotted: $a_{\min}$)")
+    ax.set_ylabel(r"$\gamma_c$")
+    ax.set_title(rf"$\gamma_c(a)$ at $M = {M}$", fontsize=10)
+    regret_growth(margin.t, {rf"$R^p_t(\gamma_c)$, $\gamma_c = {gc:.4g}$": margin.actual}, ceiling=margin.bound,
+                  ax=ax2, ylim=ylim)
+    ax2.set_title("the guarantee along one run", fontsize=10)
+    fig.suptitle(f"M = {M}, a = {a:g} (a_min = {a_min:.4f}): smallest margin C_t - R_t = {margin.margin.min():.4g}",
+                 fontsize=11)
+    fig.subplots_adjust(top=0.80, wspace=0.28)
+    return fig
+
+
+def attenuation_vs_T(Ts, levels: dict, limits: dict | None = None, title: str | None = None) -> Figure:
+    """The exact finite-T worst-case attenuation (:func:`orrc.certify.worst_case_attenuation`)
+    against the horizon T (``levels``: label -> values aligned with ``Ts``), with its T → ∞
+    limits as horizontal lines (``limits``: label -> number, from
+    :func:`orrc.certify.worst_case_attenuation_limit` with ``start="cold"`` or
+    ``"stationary"``; dashed when the label contains "stationary"). Log-scale T axis."""
+    Ts = np.array([as_int("T", T, minimum=1) for T in Ts])
+    levels = _nonempty_dict("levels", levels)
+    limits = {} if limits is None else limits
+    if not isinstance(limits, dict):
+        raise OrrcValueError(f"limits must be a dict label -> number; got {type(limits).__name__}")
+    fig, axes = _figure(width=7.0, height=3.6)
+    ax = axes[0, 0]
+    for i, (label, v) in enumerate(levels.items()):
+        v = as_array(f"levels[{label!r}]", v, (len(Ts),))
+        ax.plot(Ts, v, color=f"C{i}", marker="o", markersize=4, label=label)
+    for i, (label, v) in enumerate(limits.items()):
+        v = as_float(f"limits[{label!r}]", v, minimum=0.0)
+        ls = "--" if "stationary" in label.lower() else ":"
+        ax.axhline(v, color=f"C{i}" if i < len(levels) else "k", linestyle=ls, linewidth=1.2, label=label)
+    ax.set_xscale("log")
+    ax.set_xlabel("horizon $T$ of the sum")
+    ax.set_ylabel(r"worst-case $\gamma^*_T$")
+    ax.legend(fontsize=8, loc="best")
+    if title:
+        ax.set_title(title, fontsize=10)
     return fig

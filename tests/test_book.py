@@ -1,0 +1,374 @@
+"""The rendered book as a reader meets it (issue 4).
+
+The book is built ONCE per test session (``tools.build_book.build``: every chapter
+executed, ``-n -W --keep-going``) into ``_build/`` of the repository, or into
+``$ORRC_BOOK_OUT/_build`` when that variable is set. Then
+
+* without a browser: the build succeeded; no page loads a script, stylesheet, image
+  or frame from the network (MathJax 3 is shipped in ``_static/mathjax``); no Thebe;
+  every chapter has a valid ``.ipynb`` download holding the chapter's code cells;
+  the execution-times page lists every chapter; no page is heavier than 3 MB;
+* in headless Chromium (Playwright driving the SYSTEM Chromium, never a downloaded
+  one): every page of ``_toc.yml`` opens from ``file://`` without console errors or
+  network requests, its math is typeset, its images have loaded, no cell shows an
+  error, and every frame slider changes its figure. Screenshots at 1366 px and
+  390 px go to ``_build/screenshots/<page>-1366.png`` / ``-390.png``.
+
+No Chromium: the browser tests are skipped with a message saying how to enable them,
+except when ``CI`` is set, where a missing browser is a failure.
+"""
+from __future__ import annotations
+
+import html.parser
+import os
+import re
+import shutil
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = Path(os.environ.get("ORRC_BOOK_OUT", ROOT))
+HTML = OUT / "_build" / "html"
+SHOTS = OUT / "_build" / "screenshots"
+MAX_PAGE_BYTES = 3_000_000
+WIDTHS = (1366, 390)
+
+pytestmark = pytest.mark.slow
+
+
+# ---------------------------------------------------------------- helpers
+
+def toc_pages() -> list[str]:
+    """Every page of _toc.yml, in reading order (docnames such as ``book/lemma1``)."""
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
+    pages = [toc["root"]]
+
+    def walk(entries):
+        for e in entries or []:
+            if "file" in e:
+                pages.append(e["file"])
+            walk(e.get("sections"))
+
+    walk(toc.get("chapters"))
+    for part in toc.get("parts", []):
+        walk(part.get("chapters"))
+    return [re.sub(r"\.(md|ipynb)$", "", p) for p in pages]
+
+
+def is_notebook(page: str) -> bool:
+    """A chapter is a notebook when its MyST source has a jupytext header with a kernelspec."""
+    src = ROOT / f"{page}.md"
+    if not src.exists():
+        return False
+    text = src.read_text(encoding="utf-8")
+    return text.startswith("---") and "kernelspec:" in text.split("\n---", 1)[0]
+
+
+PAGES = toc_pages()
+NOTEBOOKS = [p for p in PAGES if is_notebook(p)]
+
+
+def page_id(page: str) -> str:
+    return Path(page).name
+
+
+class _Assets(html.parser.HTMLParser):
+    """Collect every URL a page makes the browser fetch, and the inline script bodies."""
+
+    def __init__(self):
+        super().__init__()
+        self.fetched: list[tuple[str, str]] = []
+        self.inline_scripts: list[str] = []
+        self._in_script = False
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag in ("script", "img", "iframe", "source", "audio", "video", "embed") and a.get("src"):
+            self.fetched.append((tag, a["src"]))
+        if tag == "link" and a.get("href"):
+            rel = (a.get("rel") or "").lower()
+            if any(r in rel for r in ("stylesheet", "preload", "modulepreload", "icon", "prefetch")):
+                self.fetched.append((tag, a["href"]))
+        self._in_script = tag == "script" and not a.get("src")
+        if self._in_script:
+            self.inline_scripts.append("")
+
+    def handle_endtag(self, tag):
+        if tag == "script":
+            self._in_script = False
+
+    def handle_data(self, data):
+        if self._in_script:
+            self.inline_scripts[-1] += data
+
+
+def parse(page: str) -> _Assets:
+    p = _Assets()
+    p.feed((HTML / f"{page}.html").read_text(encoding="utf-8"))
+    return p
+
+
+def is_remote(url: str) -> bool:
+    return bool(re.match(r"^(https?:)?//", url.strip(), re.I))
+
+
+# ---------------------------------------------------------------- the build (once)
+
+@pytest.fixture(scope="session")
+def book():
+    """Build the whole book once; returns the build's exit code and duration."""
+    from tools.build_book import build
+
+    t0 = time.perf_counter()
+    rc = build(OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")})
+    return {"rc": rc, "seconds": time.perf_counter() - t0}
+
+
+def test_book_builds_without_warnings_or_cell_errors(book):
+    assert book["rc"] == 0, ("jupyter-book build failed (a cell error or a Sphinx warning; "
+                             "run `make book` to see it)")
+    for page in PAGES:
+        assert (HTML / f"{page}.html").is_file(), f"{page}.html was not written"
+
+
+def test_no_page_loads_anything_from_the_network(book):
+    mathjax = HTML / "_static" / "mathjax" / "tex-svg.js"
+    assert mathjax.is_file(), "MathJax was not shipped into _static/mathjax"
+    head = mathjax.read_text(encoding="utf-8", errors="replace")[:400_000]
+    assert re.search(r'VERSION="3\.\d+\.\d+"', head), "the shipped MathJax is not MathJax 3"
+    pages_with_math = 0
+    for page in PAGES:
+        assets = parse(page)
+        remote = [(tag, url) for tag, url in assets.fetched if is_remote(url)]
+        assert not remote, f"{page}: loaded from the network: {remote}"
+        srcs = [url for tag, url in assets.fetched if tag == "script"]
+        for url in srcs:  # every local script exists in the build
+            local = (HTML / Path(page).parent / url.split("?")[0]).resolve()
+            assert local.is_file(), f"{page}: script {url} is missing from the build"
+        mj = [u for u in srcs if "mathjax" in u.lower()]
+        if mj:
+            pages_with_math += 1
+            assert all("_static/mathjax/tex-svg.js" in u for u in mj), f"{page}: MathJax from {mj}"
+        bodies = "\n".join(assets.inline_scripts)
+        assert "THEBE_JS_URL" not in bodies and "x-thebe-config" not in (HTML / f"{page}.html").read_text(), \
+            f"{page}: Thebe is still configured"
+        assert not re.search(r"require(\.min)?\.js|@jupyter-widgets/html-manager|embed-amd", bodies + " ".join(srcs)), \
+            f"{page}: the page still loads require.js / the widget manager"
+    assert pages_with_math >= 1, "no page loads MathJax at all: is math rendered?"
+
+
+def _code_cells_in_myst(text: str) -> list[str]:
+    """The sources of the ```{code-cell} blocks of a MyST notebook, read with a regex (not jupytext)."""
+    cells = []
+    for m in re.finditer(r"^(`{3,})\{code-cell\}[^\n]*\n(.*?)^\1[ \t]*$", text, re.S | re.M):
+        body = m.group(2)
+        lines = body.split("\n")
+        if lines and lines[0].startswith("---"):  # YAML options block
+            end = lines.index("---", 1)
+            lines = lines[end + 1:]
+        else:
+            while lines and lines[0].startswith(":") and ":" in lines[0][1:]:
+                lines = lines[1:]  # short-form options (:tags: [...])
+        cells.append("\n".join(lines).strip())
+    return cells
+
+
+@pytest.mark.parametrize("page", NOTEBOOKS, ids=page_id)
+def test_every_chapter_offers_its_ipynb(book, page):
+    import nbformat
+
+    nb_path = HTML / "_sources" / f"{page}.ipynb"
+    assert nb_path.is_file(), f"no .ipynb download for {page}"
+    nb = nbformat.read(nb_path, as_version=4)
+    nbformat.validate(nb)
+    code = [c.source.strip() for c in nb.cells if c.cell_type == "code"]
+    expected = _code_cells_in_myst((ROOT / f"{page}.md").read_text(encoding="utf-8"))
+    assert expected, f"{page} has no code cells?"
+    assert code == expected, f"{page}.ipynb does not hold the chapter's code cells"
+    assert all(not c.get("outputs") for c in nb.cells if c.cell_type == "code"), "the download should be clean"
+    assert nb.metadata["kernelspec"]["name"] == "python3"
+    # the page's download menu links to it
+    html_text = (HTML / f"{page}.html").read_text(encoding="utf-8")
+    rel = os.path.relpath(nb_path, (HTML / page).parent).replace(os.sep, "/")
+    assert f'href="{rel}"' in html_text, f"{page}.html has no link to {rel}"
+
+
+def test_execution_times_page_lists_every_chapter(book):
+    assert PAGES[-1].endswith("execution"), "the execution-times page should be the last entry of _toc.yml"
+    text = (HTML / f"{PAGES[-1]}.html").read_text(encoding="utf-8")
+    table = text[text.index("<table"):text.index("</table>")]
+    rows = re.findall(r"<tr.*?</tr>", table, re.S)[1:]
+    assert len(rows) == len(NOTEBOOKS), f"{len(rows)} rows for {len(NOTEBOOKS)} chapters"
+    for page in NOTEBOOKS:
+        row = next((r for r in rows if f'href="{Path(page).name}.html"' in r), None)
+        assert row is not None, f"{page} missing from the execution table"
+        cells = [re.sub(r"<.*?>", "", c).strip() for c in re.findall(r"<td.*?</td>", row, re.S)]
+        seconds = float(cells[3])
+        assert 0 < seconds < 600, f"{page}: run time {seconds}"
+        assert cells[4] == "✅", f"{page}: status {cells[4]}"
+
+
+@pytest.mark.parametrize("page", NOTEBOOKS, ids=page_id)
+def test_interactive_figures_are_static_frames_in_the_html(book, page):
+    source = (ROOT / f"{page}.md").read_text(encoding="utf-8")
+    text = (HTML / f"{page}.html").read_text(encoding="utf-8")
+    assert "application/vnd.jupyter.widget-view+json" not in text, f"{page}: a dead live widget is shown"
+    assert "application/vnd.jupyter.widget-state+json" not in text, f"{page}: unused widget state embedded"
+    if "explore(" in source:
+        assert 'class="orrc-frames"' in text, f"{page} calls explore() but shows no static frames"
+
+
+@pytest.mark.parametrize("page", PAGES, ids=page_id)
+def test_pages_stay_light(book, page):
+    size = (HTML / f"{page}.html").stat().st_size
+    assert size < MAX_PAGE_BYTES, f"{page}.html is {size / 1e6:.1f} MB (frames too heavy?)"
+
+
+# ---------------------------------------------------------------- the browser
+
+def find_chromium() -> str | None:
+    env = os.environ.get("ORRC_CHROMIUM")
+    if env:
+        return env if Path(env).is_file() else None
+    for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return "/usr/bin/chromium" if Path("/usr/bin/chromium").is_file() else None
+
+
+HOW_TO_ENABLE = ("the browser tests need Chromium: `sudo apt-get install chromium` (Debian/Ubuntu), "
+                 "or set ORRC_CHROMIUM=/path/to/chromium; Playwright never downloads a browser here")
+
+
+@pytest.fixture(scope="session")
+def chromium():
+    path = find_chromium()
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:  # pragma: no cover - playwright is pinned in requirements.txt
+        sync_playwright = None
+    if path is None or sync_playwright is None:
+        why = "no Chromium found" if path is None else "the playwright package is missing"
+        if os.environ.get("CI"):
+            pytest.fail(f"CI is set but {why}: {HOW_TO_ENABLE}")
+        pytest.skip(f"{why}; {HOW_TO_ENABLE}")
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=path, args=["--no-sandbox", "--disable-gpu"])
+        yield browser
+        browser.close()
+
+
+# every remote request is refused and recorded, so an offline failure shows up here too
+def _open(chromium, page, width):
+    ctx = chromium.new_context(viewport={"width": width, "height": 900}, device_scale_factor=1)
+    events = {"errors": [], "remote": []}
+
+    def on_route(route):
+        url = route.request.url
+        if url.startswith(("file:", "data:", "blob:")):
+            route.continue_()
+        else:
+            events["remote"].append(url)
+            route.abort()
+
+    ctx.route("**/*", on_route)
+    pg = ctx.new_page()
+    pg.on("console", lambda m: events["errors"].append(f"console.{m.type}: {m.text}") if m.type == "error" else None)
+    pg.on("pageerror", lambda e: events["errors"].append(f"page error: {e}"))
+    pg.goto((HTML / f"{page}.html").as_uri(), wait_until="load")
+    # MathJax typesets after load; wait for it where the page loads it
+    if pg.evaluate("() => !!document.querySelector('script[src*=\"mathjax\"]')"):
+        from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+        try:
+            pg.wait_for_function("() => window.MathJax && MathJax.startup && MathJax.startup.promise",
+                                 timeout=30_000)
+        except PlaywrightTimeout:
+            ctx.close()
+            raise AssertionError(f"{page}: MathJax never started (refused network requests: {events['remote']}; "
+                                 f"errors: {events['errors']})") from None
+        pg.evaluate("() => MathJax.startup.promise")
+    pg.evaluate("""() => Promise.all(Array.from(document.images).map(img => {
+        img.loading = 'eager';
+        return img.complete ? null : new Promise(r => { img.onload = img.onerror = r; });
+    }))""")
+    return ctx, pg, events
+
+
+_TEXT_OUTSIDE_CODE = """() => {
+  const main = document.querySelector('main') || document.body;
+  const copy = main.cloneNode(true);
+  copy.querySelectorAll('pre, code, script, style, mjx-container, .cell_input, .highlight')
+      .forEach(e => e.remove());
+  return copy.innerText;
+}"""
+
+
+@pytest.mark.browser
+@pytest.mark.parametrize("page", PAGES, ids=page_id)
+def test_page_in_a_real_browser(chromium, book, page):
+    assert book["rc"] == 0, "the book did not build"
+    ctx, pg, events = _open(chromium, page, WIDTHS[0])
+    try:
+        # math typeset: every math node became a MathJax container, no raw TeX left in the text
+        untypeset = pg.evaluate("() => Array.from(document.querySelectorAll('span.math, div.math'))"
+                                ".filter(e => !e.querySelector('mjx-container')).map(e => e.textContent.slice(0, 60))")
+        assert not untypeset, f"{page}: math not typeset: {untypeset[:5]}"
+        if pg.locator("span.math, div.math").count():
+            assert pg.locator("mjx-container [data-mjx-error], mjx-merror").count() == 0, f"{page}: TeX errors"
+        text = pg.evaluate(_TEXT_OUTSIDE_CODE)
+        for raw in ("$$", "\\(", "\\[", "\\begin{"):
+            assert raw not in text, f"{page}: raw TeX {raw!r} left in the rendered text"
+
+        # every image has loaded
+        broken = pg.evaluate("() => Array.from(document.images)"
+                             ".filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src.slice(0, 80))")
+        assert not broken, f"{page}: images not loaded: {broken}"
+
+        # no cell shows an error
+        assert pg.locator(".cell_output .output.traceback, .output.error").count() == 0, f"{page}: a cell error"
+        for err in pg.locator(".cell_output .output.stderr").all_inner_texts():
+            assert "Traceback" not in err and not re.search(r"\b\w*Error\b", err), f"{page}: stderr {err[:200]}"
+
+        # screenshots at a laptop and a phone width
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        for width in WIDTHS:  # taken before the sliders are touched, so the page is as a reader first sees it
+            pg.set_viewport_size({"width": width, "height": 900})
+            pg.evaluate("() => window.scrollTo(0, 0)")  # sticky sidebars are drawn where the page is scrolled
+            pg.wait_for_timeout(300)
+            pg.screenshot(path=str(SHOTS / f"{page_id(page)}-{width}.png"), full_page=True)
+            # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
+            overflow = pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
+            assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
+
+        # every frame slider flips its figure
+        frames = pg.locator("div.orrc-frames")
+        for i in range(frames.count()):
+            box = frames.nth(i)
+            img = box.locator("img.orrc-frame")
+            assert img.count() == 1 and box.locator("input.orrc-slider").count() >= 1
+            for j in range(box.locator("input.orrc-slider").count()):
+                slider = box.locator("input.orrc-slider").nth(j)
+                top = int(slider.get_attribute("max"))
+                if top == 0:
+                    continue
+                before_src = img.get_attribute("src")
+                before_label = box.locator("output").nth(j).inner_text()
+                start = int(slider.input_value())
+                slider.fill(str(top if start != top else 0))
+                pg.wait_for_function("([el, s]) => el.src !== s", arg=[img.element_handle(), before_src],
+                                     timeout=5_000)
+                assert box.locator("output").nth(j).inner_text() != before_label, f"{page}: label did not follow"
+                assert pg.evaluate("(el) => el.naturalWidth > 0", img.element_handle()), f"{page}: new frame broken"
+                slider.fill(str(start))  # and back
+                pg.wait_for_function("([el, s]) => el.src === s", arg=[img.element_handle(), before_src],
+                                     timeout=5_000)
+
+        assert not events["remote"], f"{page}: requested from the network: {events['remote']}"
+        assert not events["errors"], f"{page}: " + "\n".join(events["errors"])
+    finally:
+        ctx.close()
