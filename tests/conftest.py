@@ -1,5 +1,14 @@
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
+
+# the repository root, so that `benchmarks` and `tools` import under plain `pytest` too
+# (`python -m pytest` from the root, as `make test` runs it, has it already)
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
 
 
 @pytest.fixture

@@ -6,18 +6,11 @@ judged by an independent rollout of the cost; the LQ path: ``orrc.simulate`` and
 the bare numpy loop produce the same trajectory), and the checks that enforce this
 do fail when the answers differ.
 """
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:  # `python -m pytest` from the root has it; plain `pytest` may not
-    sys.path.insert(0, str(ROOT))
-
-from benchmarks import lq_path, pendulum, run  # noqa: E402
-from benchmarks.common import CheckFailed  # noqa: E402
+from benchmarks import lq_path, pendulum, run
+from benchmarks.common import CheckFailed
 
 
 def test_pendulum_orrc_and_solve_ocp_reach_the_same_optimum():

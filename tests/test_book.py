@@ -27,7 +27,8 @@ import time
 from pathlib import Path
 
 import pytest
-import yaml
+
+from tools.toc import toc_pages
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = Path(os.environ.get("ORRC_BOOK_OUT", ROOT))
@@ -41,23 +42,6 @@ pytestmark = pytest.mark.slow
 
 # ---------------------------------------------------------------- helpers
 
-def toc_pages() -> list[str]:
-    """Every page of _toc.yml, in reading order (docnames such as ``book/lemma1``)."""
-    toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
-    pages = [toc["root"]]
-
-    def walk(entries):
-        for e in entries or []:
-            if "file" in e:
-                pages.append(e["file"])
-            walk(e.get("sections"))
-
-    walk(toc.get("chapters"))
-    for part in toc.get("parts", []):
-        walk(part.get("chapters"))
-    return [re.sub(r"\.(md|ipynb)$", "", p) for p in pages]
-
-
 def is_notebook(page: str) -> bool:
     """A chapter is a notebook when its MyST source has a jupytext header with a kernelspec."""
     src = ROOT / f"{page}.md"
@@ -67,7 +51,7 @@ def is_notebook(page: str) -> bool:
     return text.startswith("---") and "kernelspec:" in text.split("\n---", 1)[0]
 
 
-PAGES = toc_pages()
+PAGES = toc_pages(ROOT)
 NOTEBOOKS = [p for p in PAGES if is_notebook(p)]
 
 

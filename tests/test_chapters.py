@@ -6,27 +6,15 @@ with nbclient in a fresh kernel, one test per chapter listed in _toc.yml.
 from pathlib import Path
 
 import pytest
-import yaml
+
+from tools.toc import toc_pages
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def toc_chapters():
-    toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
-    files = [toc["root"]]
-
-    def walk(entries):
-        for e in entries or []:
-            if "file" in e:
-                files.append(e["file"])
-            walk(e.get("sections"))
-            for part in e.get("parts", []) if isinstance(e, dict) else []:
-                walk(part.get("chapters"))
-
-    walk(toc.get("chapters"))
-    for part in toc.get("parts", []):
-        walk(part.get("chapters"))
-    return [f for f in files if (ROOT / f"{f}.md").exists()]
+    """The pages of _toc.yml that have a MyST source (every chapter is a notebook)."""
+    return [p for p in toc_pages(ROOT) if (ROOT / f"{p}.md").exists()]
 
 
 @pytest.mark.slow

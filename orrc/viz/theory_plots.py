@@ -305,6 +305,27 @@ def bounds_vs_actual(x, actual, bounds: dict, xlabel: str = "$t$", ylabel: str =
     return fig
 
 
+def _admissible_frame(M: int, a: float, a_min: float, result: str, right_message: str):
+    """A two-panel explorer frame; when a < a_min it only says that ``result`` does not apply.
+
+    Checks M >= 2 and 0 < a < 1, 0 <= a_min < 1. Returns ``(M, a, a_min, fig, (ax, ax2))``,
+    with ``(None, None)`` for the axes when the frame is already complete.
+    """
+    M = as_int("M", M, minimum=2)
+    a = as_float("a", a, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
+    a_min = as_float("a_min", a_min, minimum=0.0, maximum=1.0, strict_max=True)
+    fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=True)
+    ax, ax2 = axes[0]
+    if a >= a_min:
+        return M, a, a_min, fig, (ax, ax2)
+    _message(ax, f"a = {a:g} is below the smallest admissible\ndecay rate at M = {M}: "
+                 f"a_min = {a_min:.4f}.\n{result} does not apply.")
+    _message(ax2, right_message)
+    fig.suptitle(f"M = {M}, a = {a:g}: not admissible", fontsize=11)
+    fig.subplots_adjust(top=0.84)
+    return M, a, a_min, fig, (None, None)
+
+
 def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int | None = None,
                  ylim=None, coef_ylim=None) -> Figure:
     """One frame of the Lemma 2 explorer for the horizon M and decay rate a.
@@ -316,16 +337,8 @@ def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int
     ``ylim``, ``coef_ylim``: fixed limits of the right and left panels, so that frames
     compare at a glance.
     """
-    M = as_int("M", M, minimum=2)
-    a = as_float("a", a, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
-    a_min = as_float("a_min", a_min, minimum=0.0, maximum=1.0, strict_max=True)
-    fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=True)
-    ax, ax2 = axes[0]
-    if a < a_min:
-        _message(ax, f"a = {a:g} is below the smallest admissible\ndecay rate at M = {M}: "
-                     f"a_min = {a_min:.4f}.\nLemma 2 does not apply.")
-        _message(ax2, "no bound")
-        fig.suptitle(f"M = {M}, a = {a:g}: not admissible", fontsize=11)
+    M, a, a_min, fig, (ax, ax2) = _admissible_frame(M, a, a_min, "Lemma 2", "no bound")
+    if ax is None:
         return fig
     if coef is None or margins is None or H is None:
         raise OrrcValueError("for an admissible a, lemma2_frame needs coef, margins and H")
@@ -503,17 +516,8 @@ def theorem1_frame(M: int, a: float, a_min: float, a_grid=None, gamma_c_grid=Non
     R^p_t, ``bound`` is C_t, against t = ``margin.t``). When a < a_min the theorem does
     not apply and the frame says so. ``ylim``: fixed limits of the right panel.
     """
-    M = as_int("M", M, minimum=2)
-    a = as_float("a", a, minimum=0.0, maximum=1.0, strict_max=True)
-    a_min = as_float("a_min", a_min, minimum=0.0, maximum=1.0, strict_max=True)
-    fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=True)
-    ax, ax2 = axes[0]
-    if a < a_min:
-        _message(ax, f"a = {a:g} is below the smallest admissible\ndecay rate at M = {M}: "
-                     f"a_min = {a_min:.4f}.\nTheorem 1 does not apply.")
-        _message(ax2, "no guarantee")
-        fig.suptitle(f"M = {M}, a = {a:g}: not admissible", fontsize=11)
-        fig.subplots_adjust(top=0.84)
+    M, a, a_min, fig, (ax, ax2) = _admissible_frame(M, a, a_min, "Theorem 1", "no guarantee")
+    if ax is None:
         return fig
     if a_grid is None or gamma_c_grid is None or margin is None:
         raise OrrcValueError("for an admissible a, theorem1_frame needs a_grid, gamma_c_grid and margin")
