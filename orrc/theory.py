@@ -95,6 +95,15 @@ def _decay(a, M: int, alpha_lo: float, alpha_hi: float) -> float:
     return a
 
 
+def _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar):
+    """The checked (M, a, α_lo, ᾱ, γ̄) of Lemma 2 / Theorem 1: M above the threshold, a admissible."""
+    M = _M(M)
+    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
+    gamma_bar = _gamma_bar(gamma_bar)
+    _require_threshold(M, alpha_lo, alpha_hi)
+    return M, _decay(a, M, alpha_lo, alpha_hi), alpha_lo, alpha_hi, gamma_bar
+
+
 # -- Lemma 1 --------------------------------------------------------------------------------------
 def horizon_threshold(alpha_lo, alpha_hi) -> float:
     """ᾱ²/α_lo² + 1: Lemma 2 and Theorem 1 hold for every integer M strictly above it.
@@ -213,11 +222,7 @@ def lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> f
     "M_λ = a^H ᾱ" would count a^H twice (see paper-summary.md), so the statement's
     reading is implemented. Coefficients: :func:`lemma2_coefficients`.
     """
-    M = _M(M)
-    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
-    gamma_bar = _gamma_bar(gamma_bar)
-    _require_threshold(M, alpha_lo, alpha_hi)
-    a = _decay(a, M, alpha_lo, alpha_hi)
+    M, a, alpha_lo, alpha_hi, gamma_bar = _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
     sigma_t = as_float("sigma_t", sigma_t, minimum=0.0)
     H = as_int("H", H, minimum=1)
     if H < M:
@@ -241,11 +246,7 @@ def gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar) -> float:
     γ_c decreases as a decreases, so a = min_decay_rate gives the best γ_c; it is
     always > 2γ̄ (the remark after Theorem 1).
     """
-    M = _M(M)
-    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
-    gamma_bar = _gamma_bar(gamma_bar)
-    _require_threshold(M, alpha_lo, alpha_hi)
-    a = _decay(a, M, alpha_lo, alpha_hi)
+    M, a, alpha_lo, alpha_hi, gamma_bar = _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
     b = gamma_bar * (alpha_lo / alpha_hi + 1.0)
     return b * ((M - 1) * (1.0 - a) + 1.0) / (1.0 - a) ** 2
 
@@ -298,11 +299,7 @@ def theorem1_constant(sigma0, w, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) 
     M, a, alpha_lo, alpha_hi, gamma_bar : as in :func:`gamma_c` (M above the threshold).
     gamma : attenuation level, gamma >= gamma_c (else the theorem says nothing: raises).
     """
-    M = _M(M)
-    alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
-    gamma_bar = _gamma_bar(gamma_bar)
-    _require_threshold(M, alpha_lo, alpha_hi)
-    a = _decay(a, M, alpha_lo, alpha_hi)
+    M, a, alpha_lo, alpha_hi, gamma_bar = _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
     T = as_int("T", T, minimum=1)
     sigma0 = as_float("sigma0", sigma0, minimum=0.0)
     gc = gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar)

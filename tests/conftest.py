@@ -28,6 +28,26 @@ def random_lq(rng, n=3, m=2, spectral_radius=1.2):
     return A, B, Q, R
 
 
+def random_lq_problem(rng, n=None, m=None, rho_range=(0.2, 1.3)):
+    """A random linear-quadratic problem (orrc.LinearSystem, orrc.QuadraticCost).
+
+    n in {1, 2, 3} and m in {1, 2} unless given; A scaled to a spectral radius drawn from
+    ``rho_range`` (stable or unstable); Q ⪰ I (so α_lo >= 1) plus a random PSD part;
+    R a random multiple of the identity.
+    """
+    import orrc
+
+    n = int(rng.integers(1, 4)) if n is None else n
+    m = int(rng.integers(1, 3)) if m is None else m
+    A = rng.standard_normal((n, n))
+    A *= rng.uniform(*rho_range) / max(abs(np.linalg.eigvals(A)))
+    B = rng.standard_normal((n, m))
+    G = rng.standard_normal((n, n))
+    Q = 0.3 * G @ G.T / n + np.diag(rng.uniform(1, 2, n))
+    R = rng.uniform(0.05, 1.0) * np.eye(m)
+    return orrc.LinearSystem(A, B), orrc.QuadraticCost(Q, R)
+
+
 def batch_optimum(A, B, Q, R, M, x, W):
     """The M-step optimum by condensing: x_j = A^j x + Σ A^{j-1-i}(B u_i + w_i); one linear solve."""
     n, m = B.shape

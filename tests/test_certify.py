@@ -8,20 +8,11 @@ from scipy import linalg
 
 import orrc
 from orrc import certify, theory
-from conftest import batch_optimum
+from conftest import batch_optimum, random_lq_problem
 
 
 def random_problem(seed, n=None, m=None):
-    rng = np.random.default_rng(seed)
-    n = int(rng.integers(1, 4)) if n is None else n
-    m = int(rng.integers(1, 3)) if m is None else m
-    A = rng.standard_normal((n, n))
-    A *= rng.uniform(0.3, 1.3) / max(abs(np.linalg.eigvals(A)))
-    B = rng.standard_normal((n, m))
-    G = rng.standard_normal((n, n))
-    Q = 0.3 * G @ G.T / n + np.diag(rng.uniform(1, 2, n))
-    R = rng.uniform(0.05, 1.0) * np.eye(m)
-    return orrc.LinearSystem(A, B), orrc.QuadraticCost(Q, R)
+    return random_lq_problem(np.random.default_rng(seed), n, m, rho_range=(0.3, 1.3))
 
 
 def condensed_value(A, B, Q, R, M, x, W):

@@ -12,19 +12,12 @@ from hypothesis import strategies as st
 
 import orrc
 from orrc import certify, checks, theory
+from conftest import random_lq_problem
 
 
 def random_instance(seed):
     rng = np.random.default_rng(seed)
-    n = int(rng.integers(1, 4))
-    m = int(rng.integers(1, 3))
-    A = rng.standard_normal((n, n))
-    A *= rng.uniform(0.2, 1.3) / max(abs(np.linalg.eigvals(A)))
-    B = rng.standard_normal((n, m))
-    G = rng.standard_normal((n, n))
-    Q = 0.3 * G @ G.T / n + np.diag(rng.uniform(1, 2, n))
-    R = rng.uniform(0.05, 1.0) * np.eye(m)
-    return orrc.LinearSystem(A, B), orrc.QuadraticCost(Q, R), rng
+    return (*random_lq_problem(rng), rng)
 
 
 @settings(max_examples=50, deadline=None, derandomize=True,
