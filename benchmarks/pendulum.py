@@ -19,7 +19,7 @@ solved by
   for a constrained problem anyway; it needed no other option to reach the optimum).
 
 Both input sequences are evaluated by one independent numpy rollout of the cost
-(:func:`rollout_cost`), and the values must agree within 1e-4 relative. The target
+(:func:`rollout`), and the values must agree within 1e-4 relative. The target
 is orrc's cold step at least 50× faster (median over repetitions, same run). The
 warm-started orrc step (the next RHC step, warm-started from the shifted plan) and
 the one-off build time of the CasADi solver are reported separately.
@@ -48,15 +48,16 @@ def stage_cost(x, u):
     return Q_THETA * x[0] ** 2 + Q_OMEGA * x[1] ** 2 + R_U * u[0] ** 2
 
 
-def rollout_cost(x0, U, W):
-    """Σ_{j<M} c(x_j, u_j) along the rollout of inputs U (M, 1) under W (M, 2): the
-    independent referee of both solvers' answers."""
-    x = np.asarray(x0, dtype=float)
+def rollout(x0, U, W):
+    """The states x_0..x_M (M+1, 2) and the cost Σ_{j<M} c(x_j, u_j) of inputs U (M, 1) under
+    W (M, 2): the independent referee of both solvers' answers."""
+    X = np.empty((len(U) + 1, 2))
+    X[0] = x0
     total = 0.0
-    for u, w in zip(U, W):
-        total += stage_cost(x, u)
-        x = step(x, u, w)
-    return float(total)
+    for j, (u, w) in enumerate(zip(U, W)):
+        total += stage_cost(X[j], u)
+        X[j + 1] = step(X[j], u, w)
+    return X, float(total)
 
 
 def preview(M: int) -> np.ndarray:
@@ -84,7 +85,7 @@ def solve_ocp(x0, W, M: int):
 
     sys = control.NonlinearIOSystem(updfcn, None, inputs=1, states=2, dt=DT, name="pendulum")
     timepts = DT * np.arange(M + 1)
-    res = opt.solve_ocp(sys, timepts, x0, lambda x, u: stage_cost(x, u),
+    res = opt.solve_ocp(sys, timepts, x0, stage_cost,
                         [opt.input_range_constraint(sys, [-U_MAX], [U_MAX])],
                         minimize_method="SLSQP", squeeze=False, print_summary=False)
     U = np.asarray(res.inputs)[0, :M].reshape(M, 1)
@@ -111,14 +112,10 @@ def run(M: int = 20, thetas=(0.2, 0.5, 1.0), reps_orrc: int = 21, reps_peer: int
         peer = [timed(solve_ocp, x0, W, M) for _ in range(reps_peer)]
         (U_ct, res), t_peer = peer[-1][0], float(np.median([t for _, t in peer]))
         # the referee: one independent rollout for both answers
-        J_orrc, J_ct = rollout_cost(x0, plan.inputs, W), rollout_cost(x0, U_ct, W)
+        (_, J_orrc), (X_ref, J_ct) = rollout(x0, plan.inputs, W), rollout(x0, U_ct, W)
         gap = (J_ct - J_orrc) / abs(J_orrc)
         viol = max(0.0, float(np.abs(U_ct).max() - U_MAX), float(np.abs(plan.inputs).max() - U_MAX))
         X_ct = np.asarray(res.states)
-        X_ref = np.empty((M + 1, 2))
-        X_ref[0] = x0
-        for j in range(M):
-            X_ref[j + 1] = step(X_ref[j], U_ct[j], W[j])
         problems = []
         if not (plan.success and res.success):
             problems.append(f"solver failure (orrc {plan.status!r}, solve_ocp {res.message!r})")
@@ -146,8 +143,8 @@ def run(M: int = 20, thetas=(0.2, 0.5, 1.0), reps_orrc: int = 21, reps_peer: int
         W1 = W_all[1:M + 1]
         warm = [timed(rhc.plan, x1, W1, warm_start=plan) for _ in range(reps_orrc)]
         wplan, t_warm = warm[-1][0], float(np.median([t for _, t in warm]))
-        J_warm_cold = rollout_cost(x1, rhc.plan(x1, W1).inputs, W1)
-        J_warm = rollout_cost(x1, wplan.inputs, W1)
+        J_warm_cold = rollout(x1, rhc.plan(x1, W1).inputs, W1)[1]
+        J_warm = rollout(x1, wplan.inputs, W1)[1]
         if not wplan.success or abs(J_warm - J_warm_cold) > VALUE_RTOL * abs(J_warm_cold):
             raise CheckFailed(f"{bench}, θ0={theta:g}: the warm-started step ({J_warm:.8g}, "
                               f"{wplan.status}) differs from a cold solve ({J_warm_cold:.8g})")

@@ -15,10 +15,7 @@ import time
 from . import lq_path, pendulum
 from .common import CheckFailed, machine, markdown_table
 
-FULL = {
-    "pendulum": dict(M=20, thetas=(0.2, 0.5, 1.0), reps_orrc=21, reps_peer=5),
-    "lq": dict(T=1000, M=50, reps=15),
-}
+FULL = {"pendulum": {}, "lq": {}}  # the defaults of pendulum.run and lq_path.run
 QUICK = {
     "pendulum": dict(M=5, thetas=(0.5,), reps_orrc=2, reps_peer=1),
     "lq": dict(T=40, M=5, reps=2),

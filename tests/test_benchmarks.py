@@ -29,7 +29,7 @@ def test_pendulum_referee_is_independent_and_catches_a_wrong_answer(monkeypatch)
     x0, u, w = np.array([0.3, -0.2]), np.array([1.5]), np.array([0.01, -0.02])
     x1 = np.array([0.3 + 0.05 * -0.2, -0.2 + 0.05 * (9.81 * np.sin(0.3) - 0.1 * -0.2 + 1.5)]) + w
     assert np.allclose(pendulum.step(x0, u, w), x1, rtol=0, atol=1e-15)
-    J = pendulum.rollout_cost(x0, np.array([u, [0.0]]), np.array([w, w]))
+    X, J = pendulum.rollout(x0, np.array([u, [0.0]]), np.array([w, w]))
     assert J == pytest.approx(10 * 0.09 + 0.04 + 0.1 * 2.25 + 10 * x1[0] ** 2 + x1[1] ** 2, rel=1e-14)
     # a peer that returns a suboptimal sequence is caught
     real = pendulum.solve_ocp

@@ -1,6 +1,8 @@
 """Algorithm 1: preview receding-horizon control (known system)."""
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .._validate import OrrcValueError, as_array, as_int
@@ -88,18 +90,25 @@ class PreviewRHC(Controller):
                 "solver='lq' needs a LinearSystem, a QuadraticCost, no input/state bounds and a "
                 "quadratic (matrix) terminal cost or none; use solver='nlp' or 'auto'")
         self.solver = "lq" if (solver == "lq" or (solver == "auto" and lq_ok)) else "nlp"
+        self._Pf = Pf
         if self.solver == "lq":
-            self._Pf = Pf
-            self.law = lq.LQPreviewLaw(system.A, system.B, cost.Q, cost.R, self.M, Pf)
-            # [H; -[K L]]: one matrix-vector product per step gives both H z (for V_M) and
-            # u = -K x - L vec W (the closed-loop hot path; see benchmarks/lq_path.py)
-            self._HG = np.vstack([self.law.H, -np.hstack([self.law.K, self.law.L])])
             self._nlp = None
         else:
-            self.law = None
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
                                     term_fn, solver_options=solver_options)
         self._prev: Plan | None = None
+
+    @functools.cached_property
+    def law(self) -> lq.LQPreviewLaw | None:
+        """The exact affine law u = -K x - L vec W and V_M = zᵀHz of the LQ path (None on the NLP path).
+
+        Built on first use (by :meth:`control`, ``orrc.certify`` or the reader), not in the
+        constructor: it costs O(M³n³) and an (n+Mn)² matrix, which :meth:`plan` does not
+        need (e.g. :class:`~orrc.Clairvoyant` runs this class with M = T and only plans).
+        """
+        if self.solver != "lq":
+            return None
+        return lq.LQPreviewLaw(self.system.A, self.system.B, self.cost.Q, self.cost.R, self.M, self._Pf)
 
     # -- the M-step problem -------------------------------------------------------
     def _check_preview(self, x, w_preview, cost_params):
@@ -161,11 +170,8 @@ class PreviewRHC(Controller):
 
     def control(self, obs: Observation) -> Decision:
         if self.solver == "lq" and obs.cost_params is None:
-            # u_t = -K x_t - L vec W_t and V_M = zᵀHz, z = [x_t; vec W_t] (LQPreviewLaw)
-            z = np.concatenate((obs.x, obs.w_preview.reshape(-1)))
-            y = self._HG @ z
-            m = self.system.m
-            return Decision(u=y[-m:], value=float(z @ y[:-m]))
+            u, value = self.law.input_and_value(obs.x, obs.w_preview)
+            return Decision(u=u, value=value)
         P = (np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
              if obs.cost_params is None else obs.cost_params)
         plan = self._solve(obs.x, obs.w_preview, P, obs.cost_params is None, self._prev)

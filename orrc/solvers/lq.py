@@ -111,10 +111,23 @@ class LQPreviewLaw:
         H[n:, :n] = C.T
         H[n:, n:] = 0.5 * (D + D.T)
         self.H = H
+        # [H; -[K L]]: one matrix-vector product gives both H z and u (input_and_value)
+        self._HG = np.vstack([H, -np.hstack([self.K, self.L])])
 
     def first_input(self, x, W):
         """κ_M(x) = -K x - L vec W."""
         return -self.K @ x - self.L @ W.reshape(-1)
+
+    def input_and_value(self, x, W):
+        """(κ_M(x), V_M(x, W)) from one product with the stacked [H; -[K L]].
+
+        The closed-loop hot path of :class:`orrc.PreviewRHC` (see benchmarks/lq_path.py);
+        equal to (:meth:`first_input`, :meth:`value`).
+        """
+        z = np.concatenate((x, W.reshape(-1)))
+        y = self._HG @ z
+        k = z.shape[0]
+        return y[k:], float(z @ y[:k])
 
     def value(self, x, W) -> float:
         """V_M(x, W) = [x; vec W]ᵀ H [x; vec W]."""
