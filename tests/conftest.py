@@ -1,4 +1,6 @@
+import os
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +11,24 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
+
+# where the test session builds the book: $ORRC_BOOK_OUT/_build, else the repository's _build
+BOOK_OUT = Path(os.environ.get("ORRC_BOOK_OUT", ROOT))
+
+
+@pytest.fixture(scope="session")
+def book():
+    """Build the whole book once per session (every chapter executed, ORRC_QUICK=1 sizes).
+
+    Returns the build's exit code, duration and start time (a wall-clock timestamp, to tell
+    this build's outputs from older ones). Used by tests/test_book.py (the HTML) and
+    tests/test_chapters.py (the executed notebooks).
+    """
+    from tools.build_book import build
+
+    started, t0 = time.time(), time.perf_counter()
+    rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")})
+    return {"rc": rc, "seconds": time.perf_counter() - t0, "started": started}
 
 
 @pytest.fixture

@@ -1,8 +1,9 @@
 """The rendered book as a reader meets it (issue 4).
 
-The book is built ONCE per test session (``tools.build_book.build``: every chapter
-executed, ``-n -W --keep-going``) into ``_build/`` of the repository, or into
-``$ORRC_BOOK_OUT/_build`` when that variable is set. Then
+The book is built ONCE per test session (the ``book`` fixture of ``conftest.py``:
+``tools.build_book.build``, every chapter executed, ``-n -W --keep-going``) into
+``_build/`` of the repository, or into ``$ORRC_BOOK_OUT/_build`` when that variable is
+set; tests/test_chapters.py checks the executed notebooks of the same build. Then
 
 * without a browser: the build succeeded; no page loads a script, stylesheet, image
   or frame from the network (MathJax 3 is shipped in ``_static/mathjax``); no Thebe;
@@ -23,15 +24,14 @@ import html.parser
 import os
 import re
 import shutil
-import time
 from pathlib import Path
 
 import pytest
 
-from tools.toc import toc_pages
+from conftest import BOOK_OUT as OUT
+from tools.toc import notebook_pages, toc_pages
 
 ROOT = Path(__file__).resolve().parents[1]
-OUT = Path(os.environ.get("ORRC_BOOK_OUT", ROOT))
 HTML = OUT / "_build" / "html"
 SHOTS = OUT / "_build" / "screenshots"
 MAX_PAGE_BYTES = 3_000_000
@@ -42,17 +42,8 @@ pytestmark = pytest.mark.slow
 
 # ---------------------------------------------------------------- helpers
 
-def is_notebook(page: str) -> bool:
-    """A chapter is a notebook when its MyST source has a jupytext header with a kernelspec."""
-    src = ROOT / f"{page}.md"
-    if not src.exists():
-        return False
-    text = src.read_text(encoding="utf-8")
-    return text.startswith("---") and "kernelspec:" in text.split("\n---", 1)[0]
-
-
 PAGES = toc_pages(ROOT)
-NOTEBOOKS = [p for p in PAGES if is_notebook(p)]
+NOTEBOOKS = notebook_pages(ROOT)
 
 
 def page_id(page: str) -> str:
@@ -99,17 +90,7 @@ def is_remote(url: str) -> bool:
     return bool(re.match(r"^(https?:)?//", url.strip(), re.I))
 
 
-# ---------------------------------------------------------------- the build (once)
-
-@pytest.fixture(scope="session")
-def book():
-    """Build the whole book once; returns the build's exit code and duration."""
-    from tools.build_book import build
-
-    t0 = time.perf_counter()
-    rc = build(OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")})
-    return {"rc": rc, "seconds": time.perf_counter() - t0}
-
+# ---------------------------------------------------------------- the build (once: the `book` fixture of conftest.py)
 
 def test_book_builds_without_warnings_or_cell_errors(book):
     assert book["rc"] == 0, ("jupyter-book build failed (a cell error or a Sphinx warning; "

@@ -32,9 +32,6 @@ from sphinx.errors import ExtensionError
 
 MATHJAX_DIST = "sphinx-mathjax-offline"
 MATHJAX_BUNDLE = "tex-svg.js"  # TeX input + SVG output with its fonts built in: needs no font files
-#: top-level combined bundles other than MATHJAX_BUNDLE and the CommonHTML output are not shipped;
-#: the directories tex-svg.js may load lazily (TeX extensions, menu, accessibility, speech) are.
-_MATHJAX_SKIP_DIRS = {"output/chtml"}
 
 
 def mathjax_source() -> Path:
@@ -56,6 +53,8 @@ def mathjax_source() -> Path:
 
 
 def _ignore(src_root: Path):
+    """Skip the top-level combined bundles other than MATHJAX_BUNDLE and the CommonHTML output;
+    keep the directories tex-svg.js may load lazily (TeX extensions, menu, accessibility, speech)."""
     def ignore(directory: str, names: list[str]) -> set[str]:
         rel = Path(directory).relative_to(src_root).as_posix()
         skip = set()
@@ -63,7 +62,7 @@ def _ignore(src_root: Path):
             path = name if rel == "." else f"{rel}/{name}"
             if rel == "." and name.endswith(".js") and name != MATHJAX_BUNDLE:
                 skip.add(name)
-            elif path in _MATHJAX_SKIP_DIRS or path.startswith("output/chtml") or name == "__pycache__":
+            elif path.startswith("output/chtml") or name == "__pycache__":
                 skip.add(name)
         return skip
     return ignore
@@ -104,11 +103,12 @@ WIDGET_STATE = "application/vnd.jupyter.widget-state+json"
 
 
 def _is_dead(asset) -> bool:
-    """A Thebe asset, or the saved ipywidgets state (the HTML shows static frames, not live widgets)."""
+    """A Thebe file (its stylesheet, added by sphinx_thebe's setup; its scripts and inline
+    config are never added, see drop_thebe_handlers), or the saved ipywidgets state (the HTML
+    shows static frames, not live widgets)."""
     name = str(getattr(asset, "filename", asset) or "")
     attrs = getattr(asset, "attributes", {}) or {}
-    body = str(attrs.get("body", "") or "")
-    return "thebe" in name.lower() or "THEBE_JS_URL" in body or attrs.get("type") == WIDGET_STATE
+    return "thebe" in name.lower() or attrs.get("type") == WIDGET_STATE
 
 
 def drop_dead_assets(app: Sphinx, pagename, templatename, context, doctree) -> None:
