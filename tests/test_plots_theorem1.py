@@ -187,6 +187,22 @@ def test_theorem1_frame_draws_gamma_c_and_the_ceiling(scalar):
     assert "smallest margin" in fig._suptitle.get_text()
 
 
+def test_theorem1_frame_shows_the_given_exact_gamma_c_between_grid_points(scalar):
+    _, M, c, _, traj = scalar
+    a_grid = np.linspace(c.a, 0.99, 6)
+    g_grid = [theory.gamma_c(M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar) for a in a_grid]
+    a = float(0.5 * (a_grid[2] + a_grid[3]))                   # between two grid points
+    gc = gamma_c_formula(M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar)
+    assert f"{np.interp(a, a_grid, g_grid):.4g}" != f"{gc:.4g}"  # the interpolation would be off
+    margin = checks.theorem1_margin(traj, M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar, gc)
+    fig = theory_plots.theorem1_frame(M, a, c.a, a_grid, g_grid, margin, gamma_c=gc)
+    ax, ax2 = fig.axes[:2]
+    marker = _lines(ax)[1]
+    assert marker.get_xdata()[0] == a and marker.get_ydata()[0] == gc
+    labels = [ln.get_label() for ln in ax2.get_lines() if ln.get_label().startswith("$R^p_t")]
+    assert labels == [rf"$R^p_t(\gamma_c)$, $\gamma_c = {gc:.4g}$"]
+
+
 def test_theorem1_frame_below_a_min_says_the_theorem_does_not_apply(scalar):
     _, M, c, _, _ = scalar
     fig = theory_plots.theorem1_frame(M, 0.5, c.a)

@@ -45,27 +45,48 @@ def _style(label: str) -> dict:
     return {"linewidth": 1.5}
 
 
+def _nonempty_dict(name: str, d, what: str = "data") -> dict:
+    """``d`` when it is a non-empty dict, else an error naming ``name`` (and ``what`` its
+    values should be)."""
+    if not isinstance(d, dict) or not d:
+        raise OrrcValueError(f"{name} must be a non-empty dict label -> {what}; got "
+                             + (f"{type(d).__name__}" if not isinstance(d, dict) else "an empty dict"))
+    return d
+
+
 def _trajs(trajs) -> dict:
     from ..simulate import Trajectory
 
-    if not isinstance(trajs, dict) or not trajs:
-        raise OrrcValueError(
-            f"trajs must be a non-empty dict label -> Trajectory; got {type(trajs).__name__}"
-            + ("" if not isinstance(trajs, dict) else " (empty)"))
+    trajs = _nonempty_dict("trajs", trajs, "Trajectory")
     for k, v in trajs.items():
         if not isinstance(v, Trajectory):
             raise OrrcValueError(f"trajs[{k!r}] must be an orrc Trajectory; got {type(v).__name__}")
     return trajs
 
 
-def _figure(nrows: int = 1, ncols: int = 1, width: float = 9.0, height: float = 3.2, fast: bool = False, **kw):
+_FAST_MARGINS = {"left": 0.07, "right": 0.99, "bottom": 0.17, "top": 0.84, "wspace": 0.32}
+
+
+def _figure(nrows: int = 1, ncols: int = 1, width: float = 9.0, height: float = 3.2, fast: bool = False,
+            margins: dict | None = None, **kw):
     """A new Figure with a grid of axes. ``fast``: fixed margins instead of the
-    constrained layout engine (about twice as fast to render; for explorer frames)."""
+    constrained layout engine (about twice as fast to render; for explorer frames).
+    ``margins``: keywords of ``Figure.subplots_adjust`` (left, right, bottom, top,
+    wspace, hspace) that replace the fixed defaults under ``fast``; ignored otherwise."""
     fig = Figure(figsize=(width, height), layout=None if fast else "constrained")
     axes = fig.subplots(nrows, ncols, squeeze=False, **kw)
     if fast:
-        fig.subplots_adjust(left=0.07, right=0.99, bottom=0.17, top=0.84, wspace=0.32)
+        fig.subplots_adjust(**{**_FAST_MARGINS, **(margins or {})})
     return fig, axes
+
+
+def _axes(ax, width: float, height: float, fast: bool = False):
+    """``(figure, axes)`` to draw on: ``ax`` and its figure when ``ax`` is given (a panel
+    of a larger figure), else a new one-panel :func:`_figure` of that size."""
+    if ax is not None:
+        return ax.figure, ax
+    fig, axes = _figure(width=width, height=height, fast=fast)
+    return fig, axes[0, 0]
 
 
 def _gammas(gammas) -> list[float]:
@@ -114,14 +135,13 @@ def _rect(x, y, w, h, face, edge, alpha):
     return Rectangle((x, y), w, h, facecolor=face, edgecolor=edge, alpha=alpha, linewidth=1.0)
 
 
-def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, off_scale=(),
-                  cost_log: bool = False) -> Figure:
+def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, off_scale=()) -> Figure:
     """Two panels: one state coordinate x_t[state] against t, and the cumulative cost
     Σ_{s<=t} c_s(x_s, u_s) against t.
 
     ``off_scale``: labels of trajectories (e.g. an unstable open loop) that are drawn
     but ignored when the axis limits are chosen, so they leave the picture instead of
-    flattening the others. ``cost_log``: a log scale for the cost panel.
+    flattening the others.
     """
     trajs = _trajs(trajs)
     first = next(iter(trajs.values()))
@@ -149,12 +169,10 @@ def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, o
     if off_scale:
         pad = 0.08 * (x_rng[1] - x_rng[0] or 1.0)
         ax_x.set_ylim(x_rng[0] - pad, x_rng[1] + pad)
-        ax_c.set_ylim((0.5 * c_rng[0], 2.0 * c_rng[1]) if cost_log else (0.0, 1.1 * c_rng[1]))
+        ax_c.set_ylim(0.0, 1.1 * c_rng[1])
     ax_x.axhline(0.0, color="0.8", linewidth=0.8, zorder=0)
     ax_x.set_xlabel("time step $t$")
     ax_x.set_ylabel(state_label or f"state $x_t[{state}]$")
-    if cost_log:
-        ax_c.set_yscale("log")
     ax_c.set_xlabel("time step $t$")
     ax_c.set_ylabel(r"cumulative cost $\sum_{s\leq t} c_s$")
     ax_c.legend(fontsize=8, loc="best")
@@ -188,8 +206,7 @@ def cost_vs_energy(energies, costs: dict, gammas=()) -> Figure:
     energies = as_array("energies", energies, ndim=1)
     if np.any(energies <= 0):
         raise OrrcValueError("energies must be positive (log axis); got a value <= 0")
-    if not isinstance(costs, dict) or not costs:
-        raise OrrcValueError("costs must be a non-empty dict label -> array of totals")
+    costs = _nonempty_dict("costs", costs, "array of totals")
     fig, ax = _figure(width=6.0, height=3.8)
     ax = ax[0, 0]
     for i, (label, c) in enumerate(costs.items()):
@@ -213,8 +230,7 @@ def preview_gains(laws: dict, K_ref=None) -> Figure:
     ``PreviewRHC`` on the LQ path), on a log scale. ``K_ref`` (optional): a reference
     feedback gain (e.g. the infinite-horizon LQR gain) whose distance ‖K_M − K_ref‖ is
     shown in a second panel."""
-    if not isinstance(laws, dict) or not laws:
-        raise OrrcValueError("laws must be a non-empty dict label -> LQPreviewLaw (or PreviewRHC)")
+    laws = _nonempty_dict("laws", laws, "LQPreviewLaw (or PreviewRHC)")
     items = []
     for label, law in laws.items():
         law = getattr(law, "law", law)
@@ -257,8 +273,7 @@ def cost_vs_horizon(Ms, costs: dict, optimum: dict | None = None, baseline: dict
     excess dashed.
     """
     Ms = [as_int("M", m, minimum=1) for m in Ms]
-    if not isinstance(costs, dict) or not costs:
-        raise OrrcValueError("costs must be a non-empty dict label -> totals per M")
+    costs = _nonempty_dict("costs", costs, "totals per M")
     ncols = 2 if optimum else 1
     fig, axes = _figure(1, ncols, width=4.6 * ncols + 0.4, height=3.4)
     ax = axes[0, 0]
@@ -269,7 +284,6 @@ def cost_vs_horizon(Ms, costs: dict, optimum: dict | None = None, baseline: dict
         ax.plot(Ms, c, marker="o", markersize=4, color=col, label=label)
         if optimum and label in optimum:
             ax.axhline(optimum[label], color=col, linestyle=":", linewidth=1.0)
-        if optimum and label in optimum:
             J = float(optimum[label])
             axr = axes[0, 1]
             axr.plot(Ms, (c - J) / J, marker="o", markersize=4, color=col, label=label)
@@ -297,8 +311,7 @@ def disturbance_panel(ws: dict, scales=None, T: int | None = None) -> Figure:
     """The disturbance sequences side by side: the first coordinate w_t[0] and ‖w_t‖
     for each kind (``ws``: label -> (L, n) array), and, when given, the cost scales
     s_t of a time-varying cost c_t = s_t xᵀQx + uᵀRu. ``T`` cuts the plots at T steps."""
-    if not isinstance(ws, dict) or not ws:
-        raise OrrcValueError("ws must be a non-empty dict label -> (L, n) disturbance array")
+    ws = _nonempty_dict("ws", ws, "(L, n) disturbance array")
     k = len(ws) + (scales is not None)
     fig, axes = _figure(1, k, width=3.0 * k + 0.5, height=2.6)
     for ax, (label, w) in zip(axes[0], ws.items()):
@@ -363,8 +376,7 @@ def rhc_frame(traj, reference, gamma: float, state_labels=("$x_t[0]$",), input_b
 def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
     """Solver iterations per step (``iterations``: label -> (T,) array), and, when
     given, the solve time per step in milliseconds."""
-    if not isinstance(iterations, dict) or not iterations:
-        raise OrrcValueError("iterations must be a non-empty dict label -> per-step iteration counts")
+    iterations = _nonempty_dict("iterations", iterations, "per-step iteration counts")
     ncols = 2 if solve_times else 1
     fig, axes = _figure(1, ncols, width=4.6 * ncols + 0.4, height=3.0)
     for i, (label, it) in enumerate(iterations.items()):

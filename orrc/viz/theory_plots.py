@@ -29,19 +29,13 @@ import math
 import numpy as np
 from matplotlib.figure import Figure
 
+from .. import theory
 from .._validate import OrrcValueError, as_array, as_float, as_int
-from .plots import _figure
+from .plots import _axes, _figure, _nonempty_dict
 
 __all__ = ["pareto_curves", "horizon_threshold", "lemma1_check", "lemma2_coefficients", "bounds_vs_actual",
            "lemma2_frame", "gamma_c_map", "attenuation_levels", "regret_growth", "adversary", "theorem1_frame",
            "attenuation_vs_T"]
-
-
-def _nonempty_dict(name: str, d) -> dict:
-    if not isinstance(d, dict) or not d:
-        raise OrrcValueError(f"{name} must be a non-empty dict label -> data; got "
-                             + (f"{type(d).__name__}" if not isinstance(d, dict) else "an empty dict"))
-    return d
 
 
 def _constants(name: str, c):
@@ -77,8 +71,23 @@ def _symlog(ax, *arrays) -> None:
     ax.set_yscale("symlog", linthresh=lin, linscale=0.5)
 
 
-def _legend_below(ax, ncol: int = 2) -> None:
-    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=ncol, frameon=False)
+def _legend_below(ax, ncol: int = 2, offset: float = -0.2) -> None:
+    """A frameless legend centred under the axes, its top ``offset`` (axes fraction) below them."""
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, offset), ncol=ncol, frameon=False)
+
+
+def _finish(ax, xlabel: str, ylabel: str, title: str | None = None, legend: str = "best", ncol: int = 2,
+            offset: float = -0.2) -> None:
+    """The common tail of a one-panel figure: the axis labels, the legend ("best": inside the
+    axes; "below": :func:`_legend_below` with ``ncol`` and ``offset``) and the title when given."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if legend == "below":
+        _legend_below(ax, ncol=ncol, offset=offset)
+    else:
+        ax.legend(fontsize=8, loc="best")
+    if title:
+        ax.set_title(title, fontsize=10)
 
 
 # -- Lemma 1 ---------------------------------------------------------------------------------------
@@ -163,10 +172,10 @@ def horizon_threshold(Ms, alpha_hi, alpha_lo, M_star: int | None = None) -> Figu
     Ms = np.array([as_int("M", m, minimum=2) for m in Ms])
     alpha_hi = as_array("alpha_hi", alpha_hi, (len(Ms),))
     alpha_lo = as_float("alpha_lo", alpha_lo, minimum=0.0, strict_min=True)
-    need = alpha_hi ** 2 / alpha_lo ** 2 + 1
+    need = np.array([theory.horizon_threshold(alpha_lo, h) for h in alpha_hi])
+    ok = np.array([theory.above_threshold(M, alpha_lo, h) for M, h in zip(Ms, alpha_hi)])
     fig, ax = _figure(width=6.4, height=3.6)
     ax = ax[0, 0]
-    ok = need < Ms
     ax.plot(Ms, need, color="tab:blue", marker=".", label=r"required: $\overline{\alpha}(M)^2/\underline{\alpha}^2 + 1$")
     ax.plot(Ms, Ms, color="k", linewidth=1.0, label="the horizon $M$ itself")
     ax.fill_between(Ms, need, Ms, where=ok, color="tab:green", alpha=0.15, label="certified: $M$ above")
@@ -197,7 +206,8 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool 
         raise OrrcValueError(f"lemma1 must be the result of orrc.checks.lemma1_margins; got {type(lemma1).__name__}")
     if value_bound is not None:
         value_bound = _margins("value_bound", value_bound)
-    fig, axes = _figure(1, 2, width=10.0, height=4.0, fast=fast)
+    fig, axes = _figure(1, 2, width=10.0, height=4.0, fast=fast,
+                        margins={"top": 0.80 if title else 0.86, "bottom": 0.27})
     ax, ax2 = axes[0]
     low = lemma1.lower
     floor = max(float(np.min(low.bound[low.bound > 0], initial=1.0)) * 1e-3, 1e-300)
@@ -227,8 +237,6 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool 
     m = min(float(inc.margin.min()), float(low.margin.min()))
     head = (title + "\n") if title else ""
     fig.suptitle(f"{head}smallest margin (bound minus actual): {m:.3g}", fontsize=10)
-    if fast:
-        fig.subplots_adjust(top=0.80 if title else 0.86, bottom=0.27)
     return fig
 
 
@@ -241,12 +249,7 @@ def lemma2_coefficients(coefs: dict, M: int, H: int, ax=None) -> Figure:
     coefs = _nonempty_dict("coefs", coefs)
     M = as_int("M", M, minimum=2)
     H = as_int("H", H, minimum=M)
-    own = ax is None
-    if own:
-        fig, axes = _figure(width=6.4, height=3.4)
-        ax = axes[0, 0]
-    else:
-        fig = ax.figure
+    fig, ax = _axes(ax, 6.4, 3.4)
     j = np.arange(H + M - 1)
     for i, (label, c) in enumerate(coefs.items()):
         c = as_array(f"coefs[{label!r}]", c, (H + M - 1,))
@@ -264,7 +267,7 @@ def lemma2_coefficients(coefs: dict, M: int, H: int, ax=None) -> Figure:
 
 
 def bounds_vs_actual(x, actual, bounds: dict, xlabel: str = "$t$", ylabel: str = "", log: bool = True,
-                     title: str | None = None, actual_label: str = "actual", ax=None, fast: bool = False,
+                     title: str | None = None, actual_label: str = "actual", ax=None,
                      legend: str = "best") -> Figure:
     """A measured sequence (``actual`` at the points ``x``) under one or more bounds
     (``bounds``: label -> array like ``actual``), on a log scale by default. Used for
@@ -279,12 +282,7 @@ def bounds_vs_actual(x, actual, bounds: dict, xlabel: str = "$t$", ylabel: str =
     x = as_array("x", x, ndim=1)
     actual = as_array("actual", actual, (len(x),))
     bounds = _nonempty_dict("bounds", bounds)
-    own = ax is None
-    if own:
-        fig, axes = _figure(width=6.4, height=4.2 if legend == "below" else 3.4, fast=fast)
-        ax = axes[0, 0]
-    else:
-        fig = ax.figure
+    fig, ax = _axes(ax, 6.4, 4.2 if legend == "below" else 3.4)
     styles = ["-", "--", ":", "-."]
     colours = ["tab:red", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:gray"]  # never the actual's blue
     for i, (label, b) in enumerate(bounds.items()):
@@ -294,27 +292,22 @@ def bounds_vs_actual(x, actual, bounds: dict, xlabel: str = "$t$", ylabel: str =
     ax.plot(x[pos], actual[pos], color="tab:blue", linewidth=1.4, marker=".", markersize=3, label=actual_label)
     if log:
         ax.set_yscale("log")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    if title:
-        ax.set_title(title, fontsize=10)
-    if legend == "below":
-        _legend_below(ax, ncol=2)
-    else:
-        ax.legend(fontsize=8, loc="best")
+    _finish(ax, xlabel, ylabel, title, legend)
     return fig
 
 
-def _admissible_frame(M: int, a: float, a_min: float, result: str, right_message: str):
+def _admissible_frame(M: int, a: float, a_min: float, result: str, right_message: str,
+                      margins: dict | None = None):
     """A two-panel explorer frame; when a < a_min it only says that ``result`` does not apply.
 
     Checks M >= 2 and 0 < a < 1, 0 <= a_min < 1. Returns ``(M, a, a_min, fig, (ax, ax2))``,
-    with ``(None, None)`` for the axes when the frame is already complete.
+    with ``(None, None)`` for the axes when the frame is already complete. ``margins``
+    (see :func:`orrc.viz.plots._figure`) apply to the frame of an admissible a only.
     """
     M = as_int("M", M, minimum=2)
     a = as_float("a", a, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
     a_min = as_float("a_min", a_min, minimum=0.0, maximum=1.0, strict_max=True)
-    fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=True)
+    fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=True, margins=margins if a >= a_min else None)
     ax, ax2 = axes[0]
     if a >= a_min:
         return M, a, a_min, fig, (ax, ax2)
@@ -322,7 +315,6 @@ def _admissible_frame(M: int, a: float, a_min: float, result: str, right_message
                  f"a_min = {a_min:.4f}.\n{result} does not apply.")
     _message(ax2, right_message)
     fig.suptitle(f"M = {M}, a = {a:g}: not admissible", fontsize=11)
-    fig.subplots_adjust(top=0.84)
     return M, a, a_min, fig, (None, None)
 
 
@@ -337,7 +329,7 @@ def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int
     ``ylim``, ``coef_ylim``: fixed limits of the right and left panels, so that frames
     compare at a glance.
     """
-    M, a, a_min, fig, (ax, ax2) = _admissible_frame(M, a, a_min, "Lemma 2", "no bound")
+    M, a, a_min, fig, (ax, ax2) = _admissible_frame(M, a, a_min, "Lemma 2", "no bound", margins={"top": 0.80})
     if ax is None:
         return fig
     if coef is None or margins is None or H is None:
@@ -356,7 +348,6 @@ def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int
     ratio = float(np.median(margins.bound / np.maximum(margins.actual, 1e-300)))
     fig.suptitle(f"M = {M}, a = {a:g} (a_min = {a_min:.4f}), H = {H}: median bound / cost = {ratio:.3g}",
                  fontsize=11)
-    fig.subplots_adjust(top=0.80)
     return fig
 
 
@@ -431,11 +422,7 @@ def attenuation_levels(Ms, levels: dict, threshold_M: int | None = None, title: 
         ax.axvspan(Ms.min() - 0.5, threshold_M - 0.5, color="0.85", alpha=0.5, linewidth=0)
         ax.text(0.5 * (Ms.min() + threshold_M), 1.0, "Theorem 1 silent", transform=ax.get_xaxis_transform(),
                 ha="center", va="bottom", fontsize=8, color="0.3")
-    ax.set_xlabel("horizon $M$")
-    ax.set_ylabel(r"attenuation level $\gamma$")
-    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
-    if title:
-        ax.set_title(title, fontsize=10)
+    _finish(ax, "horizon $M$", r"attenuation level $\gamma$", title, legend="below", offset=-0.16)
     return fig
 
 
@@ -445,12 +432,7 @@ def regret_growth(t, R: dict, ceiling=None, title: str | None = None, ylim=None,
     ceiling C_t (``ceiling``: array aligned with t, from :func:`orrc.checks.theorem1_margin`)."""
     t = as_array("t", t, ndim=1)
     R = _nonempty_dict("R", R)
-    own = ax is None
-    if own:
-        fig, axes = _figure(width=6.4, height=3.4, fast=fast)
-        ax = axes[0, 0]
-    else:
-        fig = ax.figure
+    fig, ax = _axes(ax, 6.4, 3.4, fast=fast)
     if ceiling is not None:
         ceiling = as_array("ceiling", ceiling, (len(t),))
         ax.plot(t, ceiling, color="tab:red", linestyle="--", linewidth=1.3, label="Theorem 1 ceiling $C_t$")
@@ -460,11 +442,7 @@ def regret_growth(t, R: dict, ceiling=None, title: str | None = None, ylim=None,
     ax.axhline(0.0, color="k", linewidth=0.7)
     if ylim is not None:
         ax.set_ylim(*ylim)
-    ax.set_xlabel("$t$")
-    ax.set_ylabel(r"$R^p_t(\gamma)$")
-    ax.legend(fontsize=8, loc="best")
-    if title:
-        ax.set_title(title, fontsize=10)
+    _finish(ax, "$t$", r"$R^p_t(\gamma)$", title)
     return fig
 
 
@@ -475,7 +453,7 @@ def adversary(ws: dict, costs: dict, title: str | None = None, fast: bool = Fals
     adversary of R^p_T(γ) (Eq. 2) made explicit."""
     ws = _nonempty_dict("ws", ws)
     costs = _nonempty_dict("costs", costs)
-    fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=fast)
+    fig, axes = _figure(1, 2, width=10.0, height=3.3, fast=fast, margins={"top": 0.80 if title else 0.88})
     ax, ax2 = axes[0]
     for i, (label, w) in enumerate(ws.items()):
         w = as_array(f"ws[{label!r}]", w, ndim=2)
@@ -500,13 +478,11 @@ def adversary(ws: dict, costs: dict, title: str | None = None, fast: bool = Fals
     ax2.legend(fontsize=8)
     if title:
         fig.suptitle(title, fontsize=11)
-    if fast:
-        fig.subplots_adjust(top=0.80 if title else 0.88)
     return fig
 
 
 def theorem1_frame(M: int, a: float, a_min: float, a_grid=None, gamma_c_grid=None, margin=None,
-                   ylim=None) -> Figure:
+                   ylim=None, gamma_c=None) -> Figure:
     """One frame of the Theorem 1 explorer for the horizon M and the decay rate a.
 
     When a >= ``a_min`` (:func:`orrc.theory.min_decay_rate`): left, γ_c = b((M-1)(1-a)+1)/(1-a)²
@@ -515,8 +491,12 @@ def theorem1_frame(M: int, a: float, a_min: float, a_grid=None, gamma_c_grid=Non
     (``margin`` from :func:`orrc.checks.theorem1_margin` at γ = γ_c(a): ``actual`` is
     R^p_t, ``bound`` is C_t, against t = ``margin.t``). When a < a_min the theorem does
     not apply and the frame says so. ``ylim``: fixed limits of the right panel.
+    ``gamma_c``: the exact γ_c at a (:func:`orrc.theory.gamma_c`, the γ of ``margin``), for
+    the dot on the left and the legend on the right; without it, γ_c is interpolated in
+    the grid, which is off between grid points.
     """
-    M, a, a_min, fig, (ax, ax2) = _admissible_frame(M, a, a_min, "Theorem 1", "no guarantee")
+    M, a, a_min, fig, (ax, ax2) = _admissible_frame(M, a, a_min, "Theorem 1", "no guarantee",
+                                                    margins={"top": 0.80, "wspace": 0.28})
     if ax is None:
         return fig
     if a_grid is None or gamma_c_grid is None or margin is None:
@@ -524,7 +504,10 @@ def theorem1_frame(M: int, a: float, a_min: float, a_grid=None, gamma_c_grid=Non
     a_grid = as_array("a_grid", a_grid, ndim=1)
     gcg = as_array("gamma_c_grid", gamma_c_grid, (len(a_grid),))
     margin = _margins("margin", margin)
-    gc = float(np.interp(a, a_grid, gcg))
+    if gamma_c is None:
+        gc = float(np.interp(a, a_grid, gcg))
+    else:
+        gc = as_float("gamma_c", gamma_c, minimum=0.0, strict_min=True)
     ax.semilogy(a_grid, gcg, color="tab:red", linewidth=1.4)
     ax.plot([a], [gc], marker="o", color="tab:red", markeredgecolor="k", markersize=8)
     ax.axvline(a_min, color="0.5", linestyle=":", linewidth=1.0)
@@ -536,7 +519,6 @@ def theorem1_frame(M: int, a: float, a_min: float, a_grid=None, gamma_c_grid=Non
     ax2.set_title("the guarantee along one run", fontsize=10)
     fig.suptitle(f"M = {M}, a = {a:g} (a_min = {a_min:.4f}): smallest margin C_t - R_t = {margin.margin.min():.4g}",
                  fontsize=11)
-    fig.subplots_adjust(top=0.80, wspace=0.28)
     return fig
 
 
@@ -561,9 +543,5 @@ def attenuation_vs_T(Ts, levels: dict, limits: dict | None = None, title: str | 
         ls = "--" if "stationary" in label.lower() else ":"
         ax.axhline(v, color=f"C{i}" if i < len(levels) else "k", linestyle=ls, linewidth=1.2, label=label)
     ax.set_xscale("log")
-    ax.set_xlabel("horizon $T$ of the sum")
-    ax.set_ylabel(r"worst-case $\gamma^*_T$")
-    ax.legend(fontsize=8, loc="best")
-    if title:
-        ax.set_title(title, fontsize=10)
+    _finish(ax, "horizon $T$ of the sum", r"worst-case $\gamma^*_T$", title)
     return fig
