@@ -13,6 +13,9 @@
 * :func:`worst_case_attenuation_limit` -- its T → ∞ limit: the squared H∞ norm of the
   closed loop from w to the cost output (python-control).
 * :func:`smallest_certified_M` -- the first M at which an admissible pair exists.
+* :func:`alpha_hi_floor` -- λ_max(P_0(M)), the smallest admissible alpha_hi at each horizon M.
+
+SciPy is imported inside the functions that use it, so that ``import orrc`` does not load it.
 """
 from __future__ import annotations
 
@@ -21,7 +24,6 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import linalg, optimize
 
 from . import theory
 from ._validate import OrrcValueError, as_float, as_int
@@ -29,11 +31,11 @@ from .controllers.base import Controller
 from .controllers.baselines import LQR, ZeroInput
 from .controllers.preview import PreviewRHC
 from .costs import QuadraticCost, StageCost
-from .solvers.lq import LQPreviewLaw
+from .solvers.lq import LQPreviewLaw, _backward_gains
 from .systems import LinearSystem, System
 
 __all__ = ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
-           "worst_case_attenuation", "worst_case_attenuation_limit"]
+           "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -53,6 +55,8 @@ class Constants:
         the curve): still valid for Lemma 1, which holds for every M >= 2.
     a : the smallest admissible decay rate for that pair (:func:`orrc.theory.min_decay_rate`);
         1.0 when no pair is admissible (no decay certified).
+    b : (property) Lemma 2's b = gamma_bar (alpha_lo/alpha_hi + 1) for that pair; ``inf`` when
+        no pair is admissible, like gamma_c.
     gamma_c : Theorem 1's attenuation level for (M, a, alpha_lo, alpha_hi, gamma_bar), or
         ``inf`` with ``reason`` saying why.
     pareto : (K, 2) array of points (gamma_bar, alpha_hi) on the Pareto curve (K = grid size).
@@ -83,6 +87,18 @@ class Constants:
     def admissible(self) -> bool:
         """True when Theorem 1 applies at this M (some pair is above the horizon threshold)."""
         return math.isfinite(self.gamma_c)
+
+    @property
+    def b(self) -> float:
+        """b = γ̄ (α_lo/ᾱ + 1) of Lemma 2 for the chosen pair (:func:`orrc.theory.decay_b`).
+
+        ``inf`` when no pair is admissible at this M (``gamma_c = inf``, ``a = 1``): Lemma 2's
+        recursion V^{t+1} <= a V^t + b Σ‖w‖² is then not certified (and with alpha_lo = 0,
+        b is not defined), so it is reported the way gamma_c is.
+        """
+        if not self.admissible:
+            return math.inf
+        return theory.decay_b(self.alpha_lo, self.alpha_hi, self.gamma_bar)
 
     @property
     def threshold(self) -> float:
@@ -116,13 +132,15 @@ def _knee(points: np.ndarray) -> int:
     return int(np.argmin(prod))
 
 
-def _gamma_c_on_curve(M: int, alpha_lo: float, alpha_hi: float, gamma_bar: float) -> float:
-    """γ_c with a = min_decay_rate for one Pareto point, inf below the horizon threshold."""
+def _gamma_c_on_curve(M: int, alpha_lo: float, alpha_hi: float, gamma_bar: float) -> tuple[float, float, float]:
+    """(γ_c, a, ᾱ) for one Pareto point (alpha_hi, gamma_bar), with ᾱ = max(alpha_hi, alpha_lo) and
+    a = min_decay_rate(M, α_lo, ᾱ) (Theorem 1); (inf, 1.0, ᾱ) when alpha_lo <= 0 or ᾱ is not
+    below the horizon threshold α_lo √(M-1)."""
     alpha_hi = max(alpha_hi, alpha_lo)
-    if not alpha_hi * alpha_hi < alpha_lo * alpha_lo * (M - 1):
-        return math.inf
+    if not (alpha_lo > 0 and theory._above(M, alpha_lo, alpha_hi)):
+        return math.inf, 1.0, alpha_hi
     a = theory.min_decay_rate(M, alpha_lo, alpha_hi)
-    return theory.gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar)
+    return theory.gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar), a, alpha_hi
 
 
 # ---------------------------------------------------------------------------------------------
@@ -151,12 +169,47 @@ class _SchurCurve:
         return float(np.linalg.eigvalsh(0.5 * (S + S.T))[-1])
 
 
-def _lq_check(system, cost):
+def _check_linear_system(system):
     if not isinstance(system, LinearSystem):
         raise OrrcValueError(f"system must be an orrc LinearSystem; got {type(system).__name__}")
+
+
+def _check_quadratic_cost(system, cost, message=None):
     if not isinstance(cost, QuadraticCost):
-        raise OrrcValueError(f"cost must be an orrc QuadraticCost; got {type(cost).__name__}")
+        raise OrrcValueError(message or f"cost must be an orrc QuadraticCost; got {type(cost).__name__}")
     cost.check_dims(system.n, system.m)
+
+
+def _lq_check(system, cost):
+    _check_linear_system(system)
+    _check_quadratic_cost(system, cost)
+
+
+def alpha_hi_floor(system: LinearSystem, cost: QuadraticCost, Ms) -> np.ndarray:
+    """λ_max(P_0(M)) for each horizon M in ``Ms``: the smallest admissible alpha_hi at horizon M.
+
+    V_M(x, W) = zᵀHz with H_xx = P_0(M), the Riccati matrix of the M-step problem
+    (V_M(x, 0) = xᵀP_0x, ``orrc.solvers.lq``). The class condition of Lemma 1,
+    V_M(x, W) <= ᾱ σ(x) + γ̄ Σ‖w_k‖², holds for an LQ problem iff the certificate
+    diag(ᾱ I, γ̄ I) - H ⪰ 0 holds; its x-block needs ᾱ I - P_0(M) ⪰ 0, and along the Pareto
+    curve ᾱ(γ̄) decreases to λ_max(P_0(M)) as γ̄ → ∞. So ᾱ >= λ_max(P_0(M)) for every
+    admissible pair, and this floor is the value ``lq_constants(system, cost, M).info["alpha_hi_inf"]``
+    reports (bit for bit). Theorem 1 needs ᾱ < α_lo √(M-1), hence :func:`smallest_certified_M`.
+
+    ``Ms``: an iterable of integers >= 1 (M = 1 gives λ_max(Q)). Returns a 1-D float array
+    aligned with ``Ms``; all values come from ONE backward Riccati recursion up to max(Ms)
+    (P_0 of the M-step problem is the M-th iterate from P = 0, whatever the longest horizon).
+    """
+    _lq_check(system, cost)
+    if isinstance(Ms, (str, bytes)) or not np.iterable(Ms):
+        raise OrrcValueError(f"Ms must be an iterable of integers >= 1; got {type(Ms).__name__}")
+    Ms = [as_int(f"Ms[{i}]", M, minimum=1) for i, M in enumerate(Ms)]
+    if not Ms:
+        raise OrrcValueError("Ms must hold at least one horizon M >= 1; got an empty iterable")
+    M_max, n, m = max(Ms), system.n, system.m
+    P = _backward_gains(system.A, system.B, np.broadcast_to(cost.Q, (M_max, n, n)),
+                        np.broadcast_to(cost.R, (M_max, m, m)), None)[0]
+    return np.array([np.linalg.eigvalsh(P[M_max - M])[-1] for M in Ms], dtype=float)  # P_0(M)
 
 
 def smallest_certified_M(system: LinearSystem, cost: QuadraticCost, M_max: int = 200) -> int | None:
@@ -164,23 +217,17 @@ def smallest_certified_M(system: LinearSystem, cost: QuadraticCost, M_max: int =
 
     Along the Pareto curve ᾱ decreases to λ_max(P_0(M)) (P_0 the M-step Riccati matrix,
     V_M(x, 0) = xᵀP_0x) as γ̄ → ∞, so an admissible pair exists iff
-    λ_max(P_0(M)) < α_lo √(M-1) (the horizon threshold M > ᾱ²/α_lo² + 1).
+    λ_max(P_0(M)) < α_lo √(M-1) (the horizon threshold M > ᾱ²/α_lo² + 1, Lemma 2 and
+    Theorem 1). The floors λ_max(P_0(M)) are :func:`alpha_hi_floor`'s, from one recursion.
     """
     _lq_check(system, cost)
     M_max = as_int("M_max", M_max, minimum=2)
     alpha_lo = float(cost.alpha_lo)
     if alpha_lo <= 0:
         return None
-    A, B, Q, R = system.A, system.B, cost.Q, cost.R
-    P = np.zeros_like(Q)
-    for M in range(1, M_max + 1):  # P = P_0 of the M-step problem
-        S = R + B.T @ P @ B
-        K = np.linalg.solve(S, B.T @ P @ A)
-        P = Q + A.T @ P @ (A - B @ K)
-        P = 0.5 * (P + P.T)
-        if M >= 2 and np.linalg.eigvalsh(P)[-1] < alpha_lo * math.sqrt(M - 1):
-            return M
-    return None
+    Ms = np.arange(2, M_max + 1)
+    ok = np.flatnonzero(alpha_hi_floor(system, cost, Ms) < alpha_lo * np.sqrt(Ms - 1))
+    return int(Ms[ok[0]]) if ok.size else None
 
 
 def lq_constants(system: LinearSystem, cost: QuadraticCost, M: int, grid: int = 200) -> Constants:
@@ -202,6 +249,8 @@ def lq_constants(system: LinearSystem, cost: QuadraticCost, M: int, grid: int = 
     the last costed state): that is expected. When no pair is admissible at this M,
     ``gamma_c = inf`` and ``reason`` says why (and which M would do).
     """
+    from scipy import optimize
+
     _lq_check(system, cost)
     M = as_int("M", M, minimum=2)
     grid = as_int("grid", grid, minimum=20)
@@ -219,14 +268,13 @@ def lq_constants(system: LinearSystem, cost: QuadraticCost, M: int, grid: int = 
 
     def gc_at(d):
         gb = curve.lam_max + d
-        return _gamma_c_on_curve(M, alpha_lo, curve(gb), gb) if alpha_lo > 0 else math.inf
+        return _gamma_c_on_curve(M, alpha_lo, curve(gb), gb)[0]
 
     for _ in range(6):  # widen the scan while the best point sits at an end
         ds = np.geomspace(d_lo, d_hi, grid)
         gbs = curve.lam_max + ds
         ahs = np.array([curve(g) for g in gbs])
-        gcs = np.array([_gamma_c_on_curve(M, alpha_lo, ah, gb) if alpha_lo > 0 else math.inf
-                        for gb, ah in zip(gbs, ahs)])
+        gcs = np.array([_gamma_c_on_curve(M, alpha_lo, ah, gb)[0] for gb, ah in zip(gbs, ahs)])
         if not feasible or not np.isfinite(gcs).any():
             break
         i = int(np.argmin(gcs))
@@ -248,9 +296,7 @@ def lq_constants(system: LinearSystem, cost: QuadraticCost, M: int, grid: int = 
                                        method="bounded", options={"xatol": 1e-10})
         d_best = math.exp(res.x) if (res.success and res.fun < gcs[i]) else ds[i]
         gb = curve.lam_max + d_best
-        ah = max(curve(gb), alpha_lo)
-        a = theory.min_decay_rate(M, alpha_lo, ah)
-        gc = theory.gamma_c(M, a, alpha_lo, ah, gb)
+        gc, a, ah = _gamma_c_on_curve(M, alpha_lo, curve(gb), gb)
         return Constants(M, alpha_lo, ah, gb, a, gc, pareto, gcs, None, False, method, info, curve)
     if alpha_lo <= 0:
         reason = (f"alpha_lo = {alpha_lo:.3g}: Q is singular, so c(x, u) >= alpha_lo ‖x‖² holds only with "
@@ -309,7 +355,7 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
     region. They are not certificates; Theorem 1 computed from them is indicative.
     Solves that fail are dropped (``info['failures']``).
     """
-    from .disturbances import Ball
+    from .disturbances import Ball, _rng
 
     if not isinstance(system, System):
         raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
@@ -320,7 +366,7 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
     grid = as_int("grid", grid, minimum=20)
     x_radius = as_float("x_radius", x_radius, minimum=0.0, strict_min=True)
     w_radius = 0.1 * x_radius if w_radius is None else as_float("w_radius", w_radius, minimum=0.0, strict_min=True)
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    rng = _rng(seed)
     rhc = PreviewRHC(system, cost, M, input_bounds=input_bounds, solver_options=solver_options)
     n = system.n
     xs = Ball(x_radius, n).sample(2 * n_samples, rng)
@@ -346,14 +392,14 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
                     if s > 1e-12:
                         ratios.append(cost.value(xk, uk) / s)
     sig, en, V = np.array(sig), np.array(en), np.array(V)
-    if not ((en == 0) & (sig > 0)).any() or not ((sig == 0) & (en > 0)).any():
+    pos, has_w = sig > 0, en > 0
+    pure_x = pos & (en == 0)
+    joint = pos & has_w
+    if not pure_x.any() or not ((sig == 0) & has_w).any():
         raise OrrcValueError(
             f"too few successful solves to estimate the constants ({failures} of {len(jobs)} failed); "
             "reduce x_radius/w_radius or check the problem")
-    pure_x = (en == 0) & (sig > 0)
-    pure_w = (sig == 0) & (en > 0)
     alpha_hi_x = float(np.max(V[pure_x] / sig[pure_x]))
-    gamma_bar_w = float(np.max(V[pure_w] / en[pure_w]))
     if cost.alpha_lo is not None:
         alpha_lo, lo_note = float(cost.alpha_lo), "declared by the cost"
     elif ratios:
@@ -361,15 +407,16 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
     else:
         raise OrrcValueError("cannot estimate alpha_lo: the cost declares none and no sampled state had σ > 0")
     curve = _SampledCurve(sig, en, V)
+    # max V_M(0, W)/Σ‖w‖² over the samples with σ = 0 (σ >= 0: the curve's samples with σ <= 0)
+    gamma_bar_w = curve.gamma_min
     g0 = max(curve.gamma_min, 1e-300)
-    joint = (sig > 0) & (en > 0)
     g1 = g0
     if joint.any():  # beyond g1 every joint sample is inactive and ᾱ(γ̄) = alpha_hi_x
         g1 = max(g0, float(np.max((V[joint] - alpha_hi_x * sig[joint]) / en[joint])))
     gbs = np.geomspace(g0, max(10.0 * g1, 10.0 * g0), grid)
     ahs = np.array([max(curve(g), alpha_lo) for g in gbs])
-    gcs = np.array([_gamma_c_on_curve(M, alpha_lo, ah, gb) if alpha_lo > 0 else math.inf
-                    for gb, ah in zip(gbs, ahs)])
+    on_curve = [_gamma_c_on_curve(M, alpha_lo, ah, gb) for gb, ah in zip(gbs, ahs)]
+    gcs = np.array([gc for gc, _, _ in on_curve])
     pareto = np.column_stack([gbs, ahs])
     info = {"alpha_hi_x": alpha_hi_x, "gamma_bar_w": gamma_bar_w, "alpha_lo_source": lo_note,
             "n_solved": int(len(V)), "failures": failures, "sigma": sig, "energy": en, "V": V,
@@ -378,9 +425,9 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
               f"valid only for ‖x‖ <= {x_radius:g}, ‖w‖ <= {w_radius:g}; not a certificate")
     if np.isfinite(gcs).any():
         i = int(np.argmin(gcs))
-        gb, ah = float(gbs[i]), float(ahs[i])
-        a = theory.min_decay_rate(M, alpha_lo, ah)
-        return Constants(M, alpha_lo, ah, gb, a, float(gcs[i]), pareto, gcs, None, True, method, info, curve)
+        gc, a, ah = on_curve[i]
+        return Constants(M, alpha_lo, float(ah), float(gbs[i]), a, float(gc), pareto, gcs, None, True, method,
+                         info, curve)
     reason = (f"no sampled pair is above the horizon threshold at M={M}: alpha_hi >= {float(ahs.min()):.6g} "
               f"but M > alpha_hi²/alpha_lo² + 1 needs alpha_hi < alpha_lo √(M-1) = "
               f"{alpha_lo * math.sqrt(M - 1):.6g}" if alpha_lo > 0 else f"alpha_lo = {alpha_lo:.3g}")
@@ -424,13 +471,12 @@ def _sqrt_psd(S: np.ndarray) -> np.ndarray:
 
 def _linear_loop(system, controller, cost):
     """(K, L, M_w, Q, R): u_t = -K x_t - L vec(w_t..w_{t+M_w-1}) for the supported controllers."""
-    if not isinstance(system, LinearSystem):
-        raise OrrcValueError(f"system must be an orrc LinearSystem; got {type(system).__name__}")
+    _check_linear_system(system)
     if not isinstance(controller, Controller):
         raise OrrcValueError(f"controller must be an orrc Controller; got {type(controller).__name__}")
     n, m = system.n, system.m
     if isinstance(controller, PreviewRHC):
-        if controller.solver != "lq" or controller.law is None:
+        if controller.solver != "lq":  # PreviewRHC.law is None exactly off the LQ path
             raise OrrcValueError(
                 "worst_case_attenuation needs a linear controller: PreviewRHC on the exact LQ path "
                 f"(LinearSystem, QuadraticCost, no bounds); this one uses solver={controller.solver!r}")
@@ -448,11 +494,8 @@ def _linear_loop(system, controller, cost):
     if K.shape != (m, n):
         raise OrrcValueError(f"the controller's gain has shape {K.shape}; the system needs ({m}, {n})")
     cost = controller.cost if cost is None else cost
-    if not isinstance(cost, QuadraticCost):
-        raise OrrcValueError(
-            "worst_case_attenuation needs the problem's QuadraticCost: pass cost=... (the controller "
-            f"has {type(cost).__name__})")
-    cost.check_dims(n, m)
+    _check_quadratic_cost(system, cost, "worst_case_attenuation needs the problem's QuadraticCost: pass "
+                                        f"cost=... (the controller has {type(cost).__name__})")
     return np.asarray(K, float), np.asarray(L, float), Mw, cost.Q, cost.R
 
 
@@ -468,6 +511,8 @@ def _top_singular(G: np.ndarray) -> tuple[float, np.ndarray]:
             return float(s[0] ** 2), Vt[0]
         except (ArpackNoConvergence, ArpackError):
             pass
+    from scipy import linalg
+
     _, s, Vt = linalg.svd(G, full_matrices=False)
     return float(s[0] ** 2), Vt[0]
 
@@ -495,7 +540,7 @@ def worst_case_attenuation(system: LinearSystem, controller: Controller, T: int,
     K, L, Mw, Q, R = _linear_loop(system, controller, cost)
     T = as_int("T", T, minimum=1)
     A, B = system.A, system.B
-    n, m = B.shape
+    n = system.n
     Qh, Rh = _sqrt_psd(Q), _sqrt_psd(R)
     N = T * n
     X = np.zeros((n, N))  # x_t = X vec W
@@ -539,10 +584,10 @@ def _closed_loop_ss(system, K, L, Mw, Q, R):
     Ac[:n, :n] = A - Bu @ K
     Ac[:n, n:] = -Bu @ Lb
     Ac[:n, n:2 * n] += np.eye(n)                     # + w_t = b_0
-    Ac[n:n + nb - n, 2 * n:] = np.eye(nb - n)        # b_i⁺ = b_{i+1}
+    Ac[n:nb, 2 * n:] = np.eye(nb - n)                # b_i⁺ = b_{i+1}
     Bc = np.zeros((n + nb, n))
     Bc[:n] = -Bu @ Lv
-    Bc[n + nb - n:] = np.eye(n)                      # b_{M-2}⁺ = v
+    Bc[nb:] = np.eye(n)                              # b_{M-2}⁺ = v
     Cc = np.vstack([np.hstack([Qh, np.zeros((Qh.shape[0], nb))]), np.hstack([-Rh @ K, -Rh @ Lb])])
     Dc = np.vstack([np.zeros((Qh.shape[0], n)), -Rh @ Lv])
     return Ac, Bc, Cc, Dc
@@ -622,6 +667,8 @@ def worst_case_attenuation_limit(system: LinearSystem, controller: Controller, c
 
 def _cold_start_level(A, B, C, D, n, gamma_inf, tol):
     """max(γ_∞, root of λ_max(X_γ[buffer]) = γ) (see :func:`worst_case_attenuation_limit`)."""
+    from scipy import linalg, optimize
+
     q = B.shape[1]
     DtD, CtD, CtC = D.T @ D, C.T @ D, C.T @ C
 

@@ -22,6 +22,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from . import theory
 from ._validate import OrrcValueError, as_float, as_int
+from .metrics import attenuation_regret
 
 __all__ = ["Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins", "theorem1_margin"]
 
@@ -41,14 +42,21 @@ class Margins:
     margin: np.ndarray
     what: str
 
+    def _slack(self, rtol: float, atol: float) -> np.ndarray:
+        """The rounding allowance rtol·(|bound| + |actual|) + atol at every step."""
+        return rtol * (np.abs(self.bound) + np.abs(self.actual)) + atol
+
     def holds(self, rtol: float = 1e-9, atol: float = 1e-12) -> bool:
-        """All margins >= -(rtol·(|bound| + |actual|) + atol): the inequality holds up to rounding."""
-        return bool(np.all(self.margin >= -(rtol * (np.abs(self.bound) + np.abs(self.actual)) + atol)))
+        """All margins >= -(rtol·(|bound| + |actual|) + atol): the inequality holds up to rounding.
+
+        A NaN margin does not hold (and is not listed by :meth:`violations`, which lists the
+        steps that fail beyond rounding), hence not ``violations(...).size == 0``.
+        """
+        return bool(np.all(self.margin >= -self._slack(rtol, atol)))
 
     def violations(self, rtol: float = 1e-9, atol: float = 1e-12) -> np.ndarray:
         """The steps t where the inequality fails beyond rounding."""
-        bad = self.margin < -(rtol * (np.abs(self.bound) + np.abs(self.actual)) + atol)
-        return self.t[bad]
+        return self.t[self.margin < -self._slack(rtol, atol)]
 
     def __len__(self):
         return len(self.margin)
@@ -154,13 +162,16 @@ def lemma2_margins(traj, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> Margins:
     T = traj.T
     if H >= T:
         raise OrrcValueError(f"H must be < T = {T} (the cost c_(t+H) must be in the trajectory); got H={H}")
-    # validates every constant (threshold, a, H >= M) on the first anchor
-    theory.lemma2_bound(traj.sigma[0], traj.w_all[:H + M - 1], M, H, a, alpha_lo, alpha_hi, gamma_bar)
-    coef = theory.lemma2_coefficients(M, H, a, alpha_hi, gamma_bar,
-                                      theory.decay_b(alpha_lo, alpha_hi, gamma_bar))
+    # the checks of theory.lemma2_bound, in its order and with its messages (the windows of
+    # traj.w_all are finite and long enough: orrc.simulate and _trajectory ensure it)
+    M, a, alpha_lo, alpha_hi, gamma_bar = theory._lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
+    as_float("sigma_t", traj.sigma[0], minimum=0.0)
+    if H < M:
+        raise OrrcValueError(f"Lemma 2 needs H >= M; got H={H}, M={M}")
+    coef = theory.lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, theory._b(alpha_lo, alpha_hi, gamma_bar))
     count = T - H
     windows = sliding_window_view(e, H + M - 1)[:count]
-    bound = float(alpha_hi) * float(a) ** H * traj.sigma[:count] + windows @ coef
+    bound = alpha_hi * a ** H * traj.sigma[:count] + windows @ coef
     actual = traj.costs[H:H + count]
     return Margins(np.arange(count), bound, actual, bound - actual,
                    f"c_(t+H) <= alpha_hi a^H σ(x_t) + Σ M_(w,j) ‖w_j‖² (H={H})")
@@ -176,11 +187,9 @@ def theorem1_margin(traj, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> Margins
     ``t`` holds T' and ``actual`` the running R^p_{T'}(γ).
     """
     traj, M, e = _trajectory(traj, M)
-    T = traj.T
-    # validates everything (threshold, a, gamma >= gamma_c) at the full horizon
-    theory.theorem1_constant(traj.sigma[0], traj.w_all, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
-    Ts = np.arange(1, T + 1)
-    C = theory._theorem1_constants(float(traj.sigma[0]), e, Ts, M, float(a), float(alpha_lo),
-                                   float(alpha_hi), float(gamma_bar), float(gamma))
-    R = np.cumsum(traj.costs - float(gamma) * e[:T])
+    # the checks of theory.theorem1_constant (threshold, a, gamma >= gamma_c), b and γ_c once
+    s = theory._theorem1_setting(traj.sigma[0], traj.T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
+    Ts = np.arange(1, s.T + 1)
+    C = theory._theorem1_constants(s, e, Ts)
+    R = attenuation_regret(traj, s.gamma, cumulative=True)
     return Margins(Ts, C, R, C - R, "R^p_T(gamma) <= C (Theorem 1, explicit O(1))")

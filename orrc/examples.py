@@ -83,12 +83,12 @@ def inverted_pendulum(dt: float = 0.05, g_over_l: float = 9.81, friction: float 
                    (-u_max, u_max), f"inverted pendulum (upright), dt = {dt:g}, |u| <= {u_max:g}")
 
 
-def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0) -> Example:
+def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0, r: float = 0.1) -> Example:
     """Van der Pol oscillator (unstable origin, stable limit cycle), Euler-sampled:
 
         x1+ = x1 + dt x2,  x2+ = x2 + dt (mu (1 − x1²) x2 − x1 + u),  plus w.
 
-    Cost c = x1² + x2² + 0.1 u², |u| <= u_max.
+    Cost c = x1² + x2² + r u² (r: the input weight, 0.1 by default), |u| <= u_max.
     """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
 
@@ -97,7 +97,7 @@ def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0) -> Example
                           x[1] + dt * (mu * (1 - x[0] ** 2) * x[1] - x[0] + u[0])) + w
 
     return Example("van_der_pol", NonlinearSystem(f, 2, 1, name="Van der Pol oscillator"),
-                   QuadraticCost(np.eye(2), [[0.1]]), np.array([1.5, 0.0]), 15,
+                   QuadraticCost(np.eye(2), [[r]]), np.array([1.5, 0.0]), 15,
                    (-u_max, u_max), f"Van der Pol oscillator, mu = {mu:g}, dt = {dt:g}, |u| <= {u_max:g}")
 
 

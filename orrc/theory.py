@@ -32,6 +32,7 @@ a ``ValueError``, with a message naming the argument.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -66,6 +67,27 @@ def _M(M) -> int:
     return as_int("M", M, minimum=2)
 
 
+# -- the formulas, unvalidated (arguments already checked; used here and by orrc.certify) -------------
+def _above(M: int, alpha_lo: float, alpha_hi: float) -> bool:
+    """M > ᾱ²/α_lo² + 1, evaluated as ᾱ² < α_lo² (M - 1) (the sign of Lemma 1's Γ_V)."""
+    return alpha_hi * alpha_hi < alpha_lo * alpha_lo * (M - 1)
+
+
+def _a_min(M: int, alpha_lo: float, alpha_hi: float) -> float:
+    """a_min = 1 - (α_lo - ᾱ²/((M-1) α_lo)) / ᾱ (Lemma 2; see :func:`min_decay_rate`)."""
+    return 1.0 - (alpha_lo - alpha_hi ** 2 / ((M - 1) * alpha_lo)) / alpha_hi
+
+
+def _b(alpha_lo: float, alpha_hi: float, gamma_bar: float) -> float:
+    """b = γ̄ (α_lo/ᾱ + 1) (Lemma 2; see :func:`decay_b`)."""
+    return gamma_bar * (alpha_lo / alpha_hi + 1.0)
+
+
+def _gamma_c(M: int, a: float, b: float) -> float:
+    """γ_c = b ((M-1)(1-a) + 1) / (1-a)² (Theorem 1; see :func:`gamma_c`), from b."""
+    return b * ((M - 1) * (1.0 - a) + 1.0) / (1.0 - a) ** 2
+
+
 def above_threshold(M, alpha_lo, alpha_hi) -> bool:
     """True when M > ᾱ²/α_lo² + 1 (the horizon condition of Lemma 2 and Theorem 1).
 
@@ -73,11 +95,11 @@ def above_threshold(M, alpha_lo, alpha_hi) -> bool:
     """
     M = _M(M)
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
-    return alpha_hi * alpha_hi < alpha_lo * alpha_lo * (M - 1)
+    return _above(M, alpha_lo, alpha_hi)
 
 
 def _require_threshold(M: int, alpha_lo: float, alpha_hi: float) -> None:
-    if not alpha_hi * alpha_hi < alpha_lo * alpha_lo * (M - 1):
+    if not _above(M, alpha_lo, alpha_hi):
         thr = alpha_hi ** 2 / alpha_lo ** 2 + 1
         raise OrrcValueError(
             f"M={M} is not above the horizon threshold alpha_hi²/alpha_lo² + 1 = {thr:.6g} "
@@ -87,7 +109,7 @@ def _require_threshold(M: int, alpha_lo: float, alpha_hi: float) -> None:
 
 def _decay(a, M: int, alpha_lo: float, alpha_hi: float) -> float:
     a = as_float("a", a)
-    a_min = 1.0 - (alpha_lo - alpha_hi ** 2 / ((M - 1) * alpha_lo)) / alpha_hi
+    a_min = _a_min(M, alpha_lo, alpha_hi)
     if not (a >= a_min * (1.0 - _A_RTOL) and a < 1.0):
         raise OrrcValueError(
             f"a must lie in [min_decay_rate, 1) = [{a_min:.10g}, 1) for M={M}, alpha_lo={alpha_lo:.6g}, "
@@ -153,7 +175,7 @@ def min_decay_rate(M, alpha_lo, alpha_hi) -> float:
     M = _M(M)
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
     _require_threshold(M, alpha_lo, alpha_hi)
-    return 1.0 - (alpha_lo - alpha_hi ** 2 / ((M - 1) * alpha_lo)) / alpha_hi
+    return _a_min(M, alpha_lo, alpha_hi)
 
 
 def decay_b(alpha_lo, alpha_hi, gamma_bar) -> float:
@@ -161,7 +183,7 @@ def decay_b(alpha_lo, alpha_hi, gamma_bar) -> float:
     V^{t+1}_M <= a V^t_M + b Σ_{k=t}^{t+M-1} ‖w_k‖² (Appendix B)."""
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
     gamma_bar = _gamma_bar(gamma_bar)
-    return gamma_bar * (alpha_lo / alpha_hi + 1.0)
+    return _b(alpha_lo, alpha_hi, gamma_bar)
 
 
 def lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, b) -> np.ndarray:
@@ -232,7 +254,7 @@ def lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> f
         raise OrrcValueError(
             f"w_window must hold the H + M - 1 = {H + M - 1} disturbances w_t..w_(t+H+M-2); "
             f"got {len(e)} rows")
-    coef = lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, decay_b(alpha_lo, alpha_hi, gamma_bar))
+    coef = lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, _b(alpha_lo, alpha_hi, gamma_bar))
     return float(alpha_hi * a ** H * sigma_t + coef @ e)
 
 
@@ -247,8 +269,7 @@ def gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar) -> float:
     always > 2γ̄ (the remark after Theorem 1).
     """
     M, a, alpha_lo, alpha_hi, gamma_bar = _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
-    b = gamma_bar * (alpha_lo / alpha_hi + 1.0)
-    return b * ((M - 1) * (1.0 - a) + 1.0) / (1.0 - a) ** 2
+    return _gamma_c(M, a, _b(alpha_lo, alpha_hi, gamma_bar))
 
 
 def theorem1_constant(sigma0, w, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> float:
@@ -299,27 +320,51 @@ def theorem1_constant(sigma0, w, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) 
     M, a, alpha_lo, alpha_hi, gamma_bar : as in :func:`gamma_c` (M above the threshold).
     gamma : attenuation level, gamma >= gamma_c (else the theorem says nothing: raises).
     """
-    M, a, alpha_lo, alpha_hi, gamma_bar = _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
-    T = as_int("T", T, minimum=1)
-    sigma0 = as_float("sigma0", sigma0, minimum=0.0)
-    gc = gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar)
-    gamma = as_float("gamma", gamma)
-    if gamma < gc * (1.0 - _A_RTOL):
-        raise OrrcValueError(
-            f"Theorem 1 bounds R^p_T(gamma) only for gamma >= gamma_c = {gc:.6g}; got gamma={gamma:.6g}")
+    s = _theorem1_setting(sigma0, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
+    T, M = s.T, s.M
     e = _energies("w", w)
     need = max(T + M - 2, M)
     if len(e) < need:
         raise OrrcValueError(
             f"w must hold w_0..w_(T+M-3) and w_0..w_(M-1), i.e. at least max(T+M-2, M) = {need} rows "
             f"(use Trajectory.w_all, which includes the previewed tail); got {len(e)} rows")
-    return float(_theorem1_constants(sigma0, e, np.array([T]), M, a, alpha_lo, alpha_hi, gamma_bar, gamma)[0])
+    return float(_theorem1_constants(s, e, np.array([T]))[0])
 
 
-def _theorem1_constants(sigma0, e, Ts, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> np.ndarray:
-    """:func:`theorem1_constant` for several T at once (inputs already validated; e = ‖w_j‖²)."""
-    b = gamma_bar * (alpha_lo / alpha_hi + 1.0)
-    gc = b * ((M - 1) * (1.0 - a) + 1.0) / (1.0 - a) ** 2
+class _Theorem1Setting(NamedTuple):
+    """The checked arguments of Theorem 1 with b (Lemma 2) and γ_c, each computed once."""
+
+    sigma0: float
+    T: int
+    M: int
+    a: float
+    alpha_lo: float
+    alpha_hi: float
+    gamma_bar: float
+    gamma: float
+    b: float
+    gamma_c: float
+
+
+def _theorem1_setting(sigma0, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> _Theorem1Setting:
+    """The checked arguments of :func:`theorem1_constant` but w (same checks, order and messages:
+    the Lemma 2 setting, T, sigma0, then gamma >= γ_c), with b and γ_c computed once."""
+    M, a, alpha_lo, alpha_hi, gamma_bar = _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
+    T = as_int("T", T, minimum=1)
+    sigma0 = as_float("sigma0", sigma0, minimum=0.0)
+    b = _b(alpha_lo, alpha_hi, gamma_bar)
+    gc = _gamma_c(M, a, b)
+    gamma = as_float("gamma", gamma)
+    if gamma < gc * (1.0 - _A_RTOL):
+        raise OrrcValueError(
+            f"Theorem 1 bounds R^p_T(gamma) only for gamma >= gamma_c = {gc:.6g}; got gamma={gamma:.6g}")
+    return _Theorem1Setting(sigma0, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma, b, gc)
+
+
+def _theorem1_constants(s: _Theorem1Setting, e, Ts) -> np.ndarray:
+    """:func:`theorem1_constant` for several T at once (s from :func:`_theorem1_setting`; e = ‖w_j‖²)."""
+    sigma0, M, a, alpha_hi, gamma_bar, gamma, b, gc = (s.sigma0, s.M, s.a, s.alpha_hi, s.gamma_bar, s.gamma,
+                                                       s.b, s.gamma_c)
     cs = np.concatenate([[0.0], np.cumsum(e)])
 
     def energy(i, j):  # Σ_{i <= k < j} e_k, 0 when j <= i

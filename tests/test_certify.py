@@ -125,6 +125,41 @@ def test_lq_constants_errors():
         c.alpha_hi_at(c.info["lambda_max_Hww"] * 0.5)
 
 
+def test_alpha_hi_floor_is_lq_constants_alpha_hi_inf():
+    """λ_max(P_0(M)) from one recursion equals what lq_constants reports at each M, bit for bit,
+    and smallest_certified_M is the first M with that floor below α_lo √(M-1)."""
+    sysm, cost = random_problem(11, n=3, m=2)
+    Ms = [9, 2, 5, 3]                                  # any order, aligned with the result
+    floors = certify.alpha_hi_floor(sysm, cost, Ms)
+    assert isinstance(floors, np.ndarray) and floors.shape == (len(Ms),)
+    for M, f in zip(Ms, floors):
+        assert f == certify.lq_constants(sysm, cost, M, grid=20).info["alpha_hi_inf"]
+    assert np.array_equal(certify.alpha_hi_floor(sysm, cost, range(2, 10))[[7, 0, 3, 1]], floors)
+    assert certify.alpha_hi_floor(sysm, cost, [1])[0] == pytest.approx(np.linalg.eigvalsh(cost.Q)[-1])
+    ex = orrc.examples.scalar_unstable()
+    M_ok = certify.smallest_certified_M(ex.system, ex.cost)
+    fl = certify.alpha_hi_floor(ex.system, ex.cost, range(2, M_ok + 1))
+    ok = fl < ex.cost.alpha_lo * np.sqrt(np.arange(1, M_ok))
+    assert ok[-1] and not ok[:-1].any()
+    for bad in ([0], [2, -1], [2.5], [True], 5, "23", []):
+        with pytest.raises(ValueError, match="Ms"):
+            certify.alpha_hi_floor(sysm, cost, bad)
+    with pytest.raises(ValueError, match="QuadraticCost"):
+        certify.alpha_hi_floor(sysm, "cost", [2])
+
+
+def test_constants_b_is_lemma2_b():
+    ex = orrc.examples.scalar_unstable()
+    M_ok = certify.smallest_certified_M(ex.system, ex.cost)
+    c = certify.lq_constants(ex.system, ex.cost, M_ok + 2)
+    assert c.b == theory.decay_b(c.alpha_lo, c.alpha_hi, c.gamma_bar)
+    assert c.gamma_c == theory.gamma_c(c.M, c.a, c.alpha_lo, c.alpha_hi, c.gamma_bar)
+    with pytest.raises(AttributeError):
+        c.b = 1.0
+    below = certify.lq_constants(ex.system, ex.cost, M_ok - 1)
+    assert below.b == math.inf and below.gamma_c == math.inf
+
+
 # -- sampled estimates -----------------------------------------------------------------------------
 def test_sampled_constants_are_lower_bounds_on_the_exact_ones():
     sysm, cost = random_problem(3, n=2, m=1)

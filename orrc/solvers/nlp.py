@@ -46,8 +46,7 @@ class ShootingNLP:
     def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
                  state_bounds=None, terminal=None, solver: str = "ipopt", solver_options=None):
         n, m, npar = system.n, system.m, cost.n_params
-        self.system, self.cost, self.M = system, cost, M
-        self.n, self.m = n, m
+        self.M, self.n, self.m = M, n, m
         X = ca.SX.sym("X", n, M)        # x̃_1 .. x̃_M
         U = ca.SX.sym("U", m, M)
         x0 = ca.SX.sym("x0", n)
@@ -81,8 +80,6 @@ class ShootingNLP:
         self.lbz = np.concatenate([np.tile(ulo, M), np.tile(xlo, M)])
         self.ubz = np.concatenate([np.tile(uhi, M), np.tile(xhi, M)])
         self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
-        self.ng = n * M
-        self._lam_g = None
 
     def solve(self, x, W, P, guess_U=None, guess_X=None) -> Plan:
         """Solve from state x (n,) with preview W (M, n) and cost parameters P (M, n_params).
@@ -94,12 +91,14 @@ class ShootingNLP:
         if guess_U is None:
             guess_U = np.clip(np.zeros((M, m)), *self.input_bounds)
         if guess_X is None:
-            # cold start: hold the current state over the horizon. (A rollout of the
-            # guessed inputs falls away from the origin on open-loop unstable systems,
+            # cold start: hold the current state over the horizon (x̃_1..x̃_M = x). (A rollout
+            # of the guessed inputs falls away from the origin on open-loop unstable systems,
             # and on long horizons IPOPT then stops in a poor local optimum: e.g. the
             # clairvoyant pendulum with |u| <= 8 over T = 150 steps, cost ~3500 vs ~205.)
-            guess_X = np.tile(x, (M + 1, 1))
-        z0 = np.concatenate([guess_U.reshape(-1), guess_X[1:].reshape(-1)])
+            guess_next = np.tile(x, (M, 1))
+        else:
+            guess_next = guess_X[1:]  # guess_X holds x̃_0..x̃_M; the NLP's variables are x̃_1..x̃_M
+        z0 = np.concatenate([guess_U.reshape(-1), guess_next.reshape(-1)])
         p = np.concatenate([x, W.reshape(-1), P.reshape(-1)])
         t0 = time.perf_counter()
         sol = self.solver(x0=z0, p=p, lbx=self.lbz, ubx=self.ubz, lbg=0.0, ubg=0.0)
