@@ -9,6 +9,7 @@ from scipy import linalg
 import orrc
 from orrc import certify, theory
 from conftest import batch_optimum, random_lq_problem
+import paper
 
 
 def random_problem(seed, n=None, m=None):
@@ -86,9 +87,8 @@ def test_certified_gamma_c_is_the_best_on_a_fine_pareto_grid(seed):
             gb = lmax + d
             ah = np.linalg.eigvalsh(Hxx + Hxw @ np.linalg.solve(gb * np.eye(len(Hww)) - Hww, Hxw.T))[-1]
             if ah ** 2 < c.alpha_lo ** 2 * (MM - 1):
-                a = 1 - (c.alpha_lo - ah ** 2 / ((MM - 1) * c.alpha_lo)) / ah
-                b = gb * (c.alpha_lo / ah + 1)
-                best = min(best, b * ((MM - 1) * (1 - a) + 1) / (1 - a) ** 2)
+                a = paper.a_min(MM, c.alpha_lo, ah)
+                best = min(best, paper.gamma_c(MM, a, c.alpha_lo, ah, gb))
         assert c.gamma_c <= 1.02 * best
         # and it is attained: the chosen ᾱ is the curve's value at the chosen γ̄ (computed here)
         ah = np.linalg.eigvalsh(Hxx + Hxw @ np.linalg.solve(c.gamma_bar * np.eye(len(Hww)) - Hww, Hxw.T))[-1]

@@ -9,19 +9,7 @@ from matplotlib.figure import Figure
 import orrc
 from orrc import certify, checks, theory
 from orrc.viz import theory_plots
-
-
-def paper_coefficients(M, H, a, gamma_bar, b):
-    """M_{w,j} of Lemma 2 written out case by case (j - t = 0..H+M-2), independent of orrc."""
-    out = []
-    for k in range(H + M - 1):          # k = j - t
-        if k <= M - 1:
-            out.append(b * a ** (H - M) / (1 - a) + a ** H * gamma_bar)
-        elif k <= H - 1:
-            out.append(b / (1 - a) * a ** (H - k - 1))
-        else:
-            out.append(b / (1 - a))
-    return np.array(out)
+import paper
 
 
 @pytest.fixture(scope="module")
@@ -50,7 +38,7 @@ def test_coefficients_plot_draws_the_papers_coefficients_and_the_three_bands():
     assert [ln.get_label() for ln in lines] == list(coefs)
     for ln, a in zip(lines, a_s):
         np.testing.assert_array_equal(ln.get_xdata(), np.arange(H + M - 1))
-        np.testing.assert_allclose(ln.get_ydata(), paper_coefficients(M, H, a, gb, b), rtol=1e-12)
+        np.testing.assert_allclose(ln.get_ydata(), paper.lemma2_coefficients(M, H, a, gb, b), rtol=1e-12)
     # the shaded bands: window at t (0..M-1), decaying (M..H-1), window at t+H (H..H+M-2)
     spans = sorted((p.get_x(), p.get_x() + p.get_width()) for p in ax.patches)
     np.testing.assert_allclose(spans, [(-0.5, M - 0.5), (M - 0.5, H - 0.5), (H - 0.5, H + M - 1.5)])
@@ -114,7 +102,7 @@ def test_lemma2_frame_shows_coefficients_and_margins(run):
     fig = theory_plots.lemma2_frame(M, c.a, c.a, coef=coef, margins=mg, H=H, ylim=(1e-4, 1e5),
                                     coef_ylim=(1.0, 1e4))
     ax, ax2 = fig.axes
-    np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), paper_coefficients(M, H, c.a, c.gamma_bar, b),
+    np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), paper.lemma2_coefficients(M, H, c.a, c.gamma_bar, b),
                                rtol=1e-12)
     lines = {ln.get_label(): ln for ln in ax2.get_lines()}
     np.testing.assert_array_equal(lines["Lemma 2 bound"].get_xdata(), mg.t + H)

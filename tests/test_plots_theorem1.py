@@ -10,12 +10,7 @@ from matplotlib.figure import Figure
 import orrc
 from orrc import certify, checks, theory
 from orrc.viz import explore, theory_plots
-
-
-def gamma_c_formula(M, a, alpha_lo, alpha_hi, gamma_bar):
-    """Theorem 1's γ_c written out again, independently of orrc.theory."""
-    b = gamma_bar * (alpha_lo / alpha_hi + 1.0)
-    return b * ((M - 1) * (1 - a) + 1) / (1 - a) ** 2
+import paper
 
 
 @pytest.fixture(scope="module")
@@ -45,10 +40,10 @@ def test_gamma_c_map_draws_theorem1_gamma_c(scalar):
     assert isinstance(fig, Figure)
     ax, ax2 = fig.axes[:2]
     curve, dot = _lines(ax)[:2]
-    np.testing.assert_allclose(curve.get_ydata(), [gamma_c_formula(M, ai, c.alpha_lo, c.alpha_hi, c.gamma_bar)
+    np.testing.assert_allclose(curve.get_ydata(), [paper.gamma_c(M, ai, c.alpha_lo, c.alpha_hi, c.gamma_bar)
                                                    for ai in a], rtol=1e-12)
     assert dot.get_xdata()[0] == c.a and dot.get_ydata()[0] == pytest.approx(
-        gamma_c_formula(M, c.a, c.alpha_lo, c.alpha_hi, c.gamma_bar), rel=1e-9)
+        paper.gamma_c(M, c.a, c.alpha_lo, c.alpha_hi, c.gamma_bar), rel=1e-9)
     best, floor = _lines(ax2)[:2]
     np.testing.assert_array_equal(best.get_xdata(), [6, 7, 8])
     assert best.get_ydata()[1] == c.gamma_c and floor.get_ydata()[1] == 2 * c.gamma_bar
@@ -115,9 +110,10 @@ def test_regret_growth_draws_eq2_and_the_theorem1_ceiling(scalar):
     fig = theory_plots.regret_growth(margin.t, R, ceiling=margin.bound, ylim=(-5, 5))
     ax = fig.axes[0]
     lines = {ln.get_label(): ln for ln in ax.get_lines()}
-    energy = np.cumsum(np.sum(traj.w ** 2, axis=1))
-    np.testing.assert_allclose(lines["γ = 1"].get_ydata(), np.cumsum(traj.costs) - energy, rtol=1e-12)
-    np.testing.assert_allclose(lines["γ_c"].get_ydata(), np.cumsum(traj.costs) - gamma * energy, rtol=1e-12)
+    np.testing.assert_allclose(lines["γ = 1"].get_ydata(), paper.running_regret(traj.costs, traj.w, 1.0),
+                               rtol=1e-12)
+    np.testing.assert_allclose(lines["γ_c"].get_ydata(), paper.running_regret(traj.costs, traj.w, gamma),
+                               rtol=1e-12)
     ceiling = lines["Theorem 1 ceiling $C_t$"].get_ydata()
     assert np.all(ceiling >= lines["γ_c"].get_ydata())          # Theorem 1 holds along the run
     assert ax.get_ylim() == (-5.0, 5.0)
@@ -172,7 +168,7 @@ def test_theorem1_frame_draws_gamma_c_and_the_ceiling(scalar):
     a_grid = np.linspace(c.a, 0.99, 30)
     g_grid = [theory.gamma_c(M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar) for a in a_grid]
     a = float(a_grid[10])
-    gc = gamma_c_formula(M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar)
+    gc = paper.gamma_c(M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar)
     margin = checks.theorem1_margin(traj, M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar, gc)
     fig = theory_plots.theorem1_frame(M, a, c.a, a_grid, g_grid, margin, ylim=(-100, 10))
     ax, ax2 = fig.axes[:2]
@@ -180,8 +176,7 @@ def test_theorem1_frame_draws_gamma_c_and_the_ceiling(scalar):
     assert marker.get_xdata()[0] == a and marker.get_ydata()[0] == pytest.approx(gc, rel=1e-12)
     lines = {ln.get_label(): ln for ln in ax2.get_lines()}
     R = [ln for k, ln in lines.items() if k.startswith("$R^p_t")][0]
-    energy = np.cumsum(np.sum(traj.w ** 2, axis=1))
-    np.testing.assert_allclose(R.get_ydata(), np.cumsum(traj.costs) - gc * energy, rtol=1e-10)
+    np.testing.assert_allclose(R.get_ydata(), paper.running_regret(traj.costs, traj.w, gc), rtol=1e-10)
     np.testing.assert_allclose(lines["Theorem 1 ceiling $C_t$"].get_ydata(), margin.bound)
     assert ax2.get_ylim() == (-100.0, 10.0)
     assert "smallest margin" in fig._suptitle.get_text()
@@ -192,7 +187,7 @@ def test_theorem1_frame_shows_the_given_exact_gamma_c_between_grid_points(scalar
     a_grid = np.linspace(c.a, 0.99, 6)
     g_grid = [theory.gamma_c(M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar) for a in a_grid]
     a = float(0.5 * (a_grid[2] + a_grid[3]))                   # between two grid points
-    gc = gamma_c_formula(M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar)
+    gc = paper.gamma_c(M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar)
     assert f"{np.interp(a, a_grid, g_grid):.4g}" != f"{gc:.4g}"  # the interpolation would be off
     margin = checks.theorem1_margin(traj, M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar, gc)
     fig = theory_plots.theorem1_frame(M, a, c.a, a_grid, g_grid, margin, gamma_c=gc)

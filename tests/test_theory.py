@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 
 import orrc
 from orrc import theory
+import paper
 
 SETTINGS = settings(max_examples=60, deadline=None, derandomize=True)
 
@@ -148,14 +149,7 @@ def test_lemma2_coefficients_are_the_papers_and_bound_the_recursion(c, extra):
     b = theory.decay_b(lo, hi, gb)
     coef = theory.lemma2_coefficients(M, H, a, hi, gb, b)
     assert coef.shape == (H + M - 1,)
-    for j, value in enumerate(coef):          # j = offset from t
-        if j <= M - 1:
-            paper = b * a ** (H - M) / (1 - a) + a ** H * gb
-        elif j <= H - 1:
-            paper = b / (1 - a) * a ** (H - j - 1)
-        else:
-            paper = b / (1 - a)
-        assert value == pytest.approx(paper, rel=1e-12)
+    np.testing.assert_allclose(coef, paper.lemma2_coefficients(M, H, a, gb, b), rtol=1e-12)
     # the paper's coefficients upper-bound the exact unrolled recursion (Appendix B)
     assert np.all(coef >= exact_window_coefficients(M, H, a, b, gb) * (1 - 1e-12))
 
