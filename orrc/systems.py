@@ -141,7 +141,7 @@ class NonlinearSystem(System):
         u = np.zeros(self.m) if u is None else as_array("u", u, (self.m,))
         xs, us, ws = ca.SX.sym("x", self.n), ca.SX.sym("u", self.m), ca.SX.sym("w", self.n)
         fx = self.function(xs, us, ws)
-        jac = ca.Function("jac", [xs, us, ws], [ca.jacobian(fx, xs), ca.jacobian(fx, us)])
+        jac = ca.Function("jacobians", [xs, us, ws], [ca.jacobian(fx, xs), ca.jacobian(fx, us)])  # "jac" is reserved by CasADi
         A, B = jac(x, u, np.zeros(self.n))
         return np.asarray(A), np.asarray(B)
 

@@ -94,3 +94,20 @@ def test_clairvoyant_optimum_is_below_every_causal_controller_on_the_pendulum():
                         ex.x0, w, T)
     assert clair.n_failures == 0
     assert 0 <= orrc.dynamic_regret(rhc, clair) < 0.1 * clair.costs.sum()
+
+
+def test_linearize_is_the_jacobian_of_f_and_lqr_uses_it():
+    """NonlinearSystem.linearize: the Jacobians of f at (x, u, 0); LQR on a nonlinear system
+    is the LQR of that local model."""
+    dt, mu = 0.3, 1.0
+    ex = orrc.examples.van_der_pol(dt=dt, mu=mu)
+    A0, B0 = ex.system.linearize()
+    np.testing.assert_allclose(A0, [[1, dt], [-dt, 1 + dt * mu]], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(B0, [[0], [dt]], rtol=0, atol=1e-15)
+    x1, x2 = 0.5, 0.2
+    A, _ = ex.system.linearize([x1, x2], [0.7])
+    np.testing.assert_allclose(A, [[1, dt], [dt * (-2 * mu * x1 * x2 - 1), 1 + dt * mu * (1 - x1 ** 2)]],
+                               rtol=0, atol=1e-15)
+    K_nl = orrc.LQR(ex.system, ex.cost).K
+    K_lin = orrc.LQR(orrc.LinearSystem(A0, B0), ex.cost).K
+    np.testing.assert_allclose(K_nl, K_lin, rtol=1e-12)
