@@ -1,4 +1,4 @@
-"""Lemma 1, Lemma 2 and Theorem 1 checked step by step along a simulated trajectory.
+"""Lemma 1, Lemma 2 and Theorem 1 (known system, Section 5.1) checked step by step along a trajectory.
 
 Each function takes a :class:`~orrc.Trajectory` of Algorithm 1 (``PreviewRHC``: it
 reports V_M at every step in ``traj.values``) and the paper's constants, and returns
@@ -20,9 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from . import theory
-from ._validate import OrrcValueError, as_float, as_int
-from .metrics import attenuation_regret
+from .. import theory
+from .._validate import OrrcValueError, as_float, as_int
+from ..metrics import attenuation_regret
 
 __all__ = ["Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins", "theorem1_margin"]
 
@@ -81,7 +81,7 @@ class Lemma1Margins:
 
 
 def _trajectory(traj, M):
-    from .simulate import Trajectory
+    from ..simulate import Trajectory
 
     if not isinstance(traj, Trajectory):
         raise OrrcValueError(f"traj must be an orrc Trajectory (from orrc.simulate); got {type(traj).__name__}")
@@ -164,11 +164,11 @@ def lemma2_margins(traj, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> Margins:
         raise OrrcValueError(f"H must be < T = {T} (the cost c_(t+H) must be in the trajectory); got H={H}")
     # the checks of theory.lemma2_bound, in its order and with its messages (the windows of
     # traj.w_all are finite and long enough: orrc.simulate and _trajectory ensure it)
-    M, a, alpha_lo, alpha_hi, gamma_bar = theory._lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
+    M, a, alpha_lo, alpha_hi, gamma_bar = theory.known._lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
     as_float("sigma_t", traj.sigma[0], minimum=0.0)
     if H < M:
         raise OrrcValueError(f"Lemma 2 needs H >= M; got H={H}, M={M}")
-    coef = theory.lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, theory._b(alpha_lo, alpha_hi, gamma_bar))
+    coef = theory.lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, theory.known._b(alpha_lo, alpha_hi, gamma_bar))
     count = T - H
     windows = sliding_window_view(e, H + M - 1)[:count]
     bound = alpha_hi * a ** H * traj.sigma[:count] + windows @ coef
@@ -188,8 +188,8 @@ def theorem1_margin(traj, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> Margins
     """
     traj, M, e = _trajectory(traj, M)
     # the checks of theory.theorem1_constant (threshold, a, gamma >= gamma_c), b and γ_c once
-    s = theory._theorem1_setting(traj.sigma[0], traj.T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
+    s = theory.known._theorem1_setting(traj.sigma[0], traj.T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
     Ts = np.arange(1, s.T + 1)
-    C = theory._theorem1_constants(s, e, Ts)
+    C = theory.known._theorem1_constants(s, e, Ts)
     R = attenuation_regret(traj, s.gamma, cumulative=True)
     return Margins(Ts, C, R, C - R, "R^p_T(gamma) <= C (Theorem 1, explicit O(1))")

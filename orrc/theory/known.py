@@ -1,4 +1,4 @@
-"""The known-system theory of the paper (Section 5.1) as pure functions of its constants.
+"""The known-system theory of the paper (Section 5.1: Lemma 1, Lemma 2, Theorem 1) as pure functions.
 
 Every function here takes the paper's constants and returns a number (or an array
 of coefficients); none of them knows about a system, a controller or a trajectory.
@@ -36,7 +36,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._validate import OrrcValueError, as_array, as_float, as_int
+from .._validate import OrrcValueError, as_array, as_float, as_int
 
 __all__ = [
     "horizon_threshold", "above_threshold", "min_decay_rate", "decay_b", "Gamma_V", "Gamma_V_gamma",

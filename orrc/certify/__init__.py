@@ -1,0 +1,29 @@
+"""The paper's constants for a concrete problem, and the attenuation a linear closed loop achieves.
+
+One module per kind of result:
+
+* :mod:`orrc.certify.constants` -- the constants of Section 5.1 (α_lo, ᾱ, γ̄, a, γ_c):
+  :func:`lq_constants`, exact certificates for a :class:`~orrc.LinearSystem` with a
+  :class:`~orrc.QuadraticCost` (σ(x) = ‖x‖²). V_M(x, W) = zᵀ H z with z = [x; vec W]
+  (``orrc.solvers.lq.LQPreviewLaw``), so (ᾱ, γ̄) bound V_M (the class of systems of
+  Section 5.1) exactly when diag(ᾱ I_n, γ̄ I_{Mn}) - H ⪰ 0: a Pareto curve of pairs. The
+  pair that minimises Theorem 1's γ_c is picked, with the smallest admissible a.
+  :func:`smallest_certified_M` is the first M at which an admissible pair exists, and
+  :func:`alpha_hi_floor` λ_max(P_0(M)), the smallest admissible alpha_hi at each horizon M.
+* :mod:`orrc.certify.sampled` -- :func:`sampled_constants`, for nonlinear problems (or
+  input bounds): V_M solved on samples; the ratios are *lower bounds* on the true
+  constants (``estimate=True``).
+* :mod:`orrc.certify.attenuation` -- :func:`worst_case_attenuation`, for a linear closed
+  loop (Algorithm 1 on the LQ path, LQR, zero input) the exact smallest γ with
+  R^p_T(γ) <= 0 for every disturbance sequence of length T from x_0 = 0, and the
+  disturbance that attains it; :func:`worst_case_attenuation_limit`, its T → ∞ limit:
+  the squared H∞ norm of the closed loop from w to the cost output (python-control).
+
+SciPy is imported inside the functions that use it, so that ``import orrc`` does not load it.
+"""
+from .attenuation import Attenuation, worst_case_attenuation, worst_case_attenuation_limit
+from .constants import Constants, alpha_hi_floor, lq_constants, smallest_certified_M
+from .sampled import sampled_constants
+
+__all__ = ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
+           "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit"]

@@ -1,0 +1,283 @@
+"""The attenuation a linear closed loop achieves against the worst disturbance.
+
+* :func:`worst_case_attenuation` -- for a linear closed loop (Algorithm 1 on the LQ path,
+  LQR, zero input) the exact smallest γ with R^p_T(γ) <= 0 for every disturbance sequence
+  of length T from x_0 = 0, and the disturbance that attains it;
+* :func:`worst_case_attenuation_limit` -- its T → ∞ limit: the squared H∞ norm of the
+  closed loop from w to the cost output (python-control), or the cold-start level.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._validate import OrrcValueError, as_float, as_int
+from ..controllers.base import Controller
+from ..controllers.baselines import LQR, ZeroInput
+from ..controllers.preview import PreviewRHC
+from ..systems import LinearSystem
+from .constants import _check_linear_system, _check_quadratic_cost
+
+__all__ = ["Attenuation", "worst_case_attenuation", "worst_case_attenuation_limit"]
+
+
+@dataclass
+class Attenuation:
+    """The attenuation a linear closed loop achieves against the worst disturbance.
+
+    gamma : the smallest γ with R^p_T(γ) <= 0 for every disturbance (finite T), or the
+        squared H∞ norm (T = None, the limit T → ∞); ``inf`` when the loop is unstable.
+    w : (T, n) the worst-case disturbance, unit total energy Σ‖w_t‖² = 1 (None for the limit).
+    T : horizon, or None for the limit.
+    G : the matrix with Σ_{t<T} c_t = ‖G vec(w)‖² (finite T), else None.
+    closed_loop : the python-control ``StateSpace`` from the newest previewed disturbance to the
+        cost output (the limit), else None.
+    reason : None, or why gamma is infinite.
+    start : "cold" for finite T and the cold-start limit, "stationary" for the H∞ level.
+    """
+
+    gamma: float
+    w: np.ndarray | None = None
+    T: int | None = None
+    G: np.ndarray | None = field(default=None, repr=False)
+    closed_loop: object = field(default=None, repr=False)
+    reason: str | None = None
+    start: str = "cold"
+
+
+def _sqrt_psd(S: np.ndarray) -> np.ndarray:
+    """A matrix F with FᵀF = S for a symmetric PSD S."""
+    lam, V = np.linalg.eigh(0.5 * (S + S.T))
+    return np.sqrt(np.clip(lam, 0.0, None))[:, None] * V.T
+
+
+def _linear_loop(system, controller, cost):
+    """(K, L, M_w, Q, R): u_t = -K x_t - L vec(w_t..w_{t+M_w-1}) for the supported controllers."""
+    _check_linear_system(system)
+    if not isinstance(controller, Controller):
+        raise OrrcValueError(f"controller must be an orrc Controller; got {type(controller).__name__}")
+    n, m = system.n, system.m
+    if isinstance(controller, PreviewRHC):
+        if controller.solver != "lq":  # PreviewRHC.law is None exactly off the LQ path
+            raise OrrcValueError(
+                "worst_case_attenuation needs a linear controller: PreviewRHC on the exact LQ path "
+                f"(LinearSystem, QuadraticCost, no bounds); this one uses solver={controller.solver!r}")
+        if controller.system is not system and not (
+                np.array_equal(controller.system.A, system.A) and np.array_equal(controller.system.B, system.B)):
+            raise OrrcValueError("the PreviewRHC controller was built for a different (A, B) than `system`")
+        K, L, Mw = controller.law.K, controller.law.L, controller.M
+    elif isinstance(controller, LQR):
+        K, L, Mw = controller.K, np.zeros((m, 0)), 0
+    elif isinstance(controller, ZeroInput):
+        K, L, Mw = np.zeros((m, n)), np.zeros((m, 0)), 0
+    else:
+        raise OrrcValueError(
+            f"worst_case_attenuation supports PreviewRHC (LQ path), LQR and ZeroInput; got {type(controller).__name__}")
+    if K.shape != (m, n):
+        raise OrrcValueError(f"the controller's gain has shape {K.shape}; the system needs ({m}, {n})")
+    cost = controller.cost if cost is None else cost
+    _check_quadratic_cost(system, cost, "worst_case_attenuation needs the problem's QuadraticCost: pass "
+                                        f"cost=... (the controller has {type(cost).__name__})")
+    return np.asarray(K, float), np.asarray(L, float), Mw, cost.Q, cost.R
+
+
+def _top_singular(G: np.ndarray) -> tuple[float, np.ndarray]:
+    """(σ_max(G)², top right singular vector): dense SVD for small G, else ARPACK (``svds``,
+    tol=0, i.e. to machine precision; deterministic start vector), dense if it fails."""
+    if min(G.shape) > 200:
+        from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, svds
+
+        v0 = np.random.default_rng(0).standard_normal(G.shape[1])
+        try:
+            _, s, Vt = svds(G, k=1, tol=0, v0=v0, solver="arpack", maxiter=20 * G.shape[1])
+            return float(s[0] ** 2), Vt[0]
+        except (ArpackNoConvergence, ArpackError):
+            pass
+    from scipy import linalg
+
+    _, s, Vt = linalg.svd(G, full_matrices=False)
+    return float(s[0] ** 2), Vt[0]
+
+
+def worst_case_attenuation(system: LinearSystem, controller: Controller, T: int, cost=None) -> Attenuation:
+    """The exact smallest γ with R^p_T(γ) <= 0 for every disturbance w_0..w_{T-1} (x_0 = 0).
+
+    For a linear closed loop (Algorithm 1 on the LQ path, u = -Kx - L vec(w_t..w_{t+M-1});
+    LQR; zero input), x_t and u_t are linear in W = (w_0, ..., w_{T-1}) and
+    Σ_{t<T} c_t(x_t, u_t) = ‖G vec W‖² with G stacking [Q^{1/2} x_t; R^{1/2} u_t]. So
+    R^p_T(γ) = vec Wᵀ (GᵀG - γ I) vec W <= 0 for all W iff γ >= γ* = λ_max(GᵀG) = σ_max(G)²
+    (Eq. 2 of the paper with the worst adversary), and the top right singular vector of G
+    is the disturbance that attains it: the adversary made explicit. (Dense SVD for small
+    problems, ARPACK to machine precision for large T.)
+
+    With preview (M >= 2) the worst finite-T disturbance concentrates at the start, where
+    the controller meets w_0..w_{M-2} unannounced; its T → ∞ limit is
+    ``worst_case_attenuation_limit(..., start="cold")``, which can exceed the stationary
+    H∞ level that governs R^p_T(γ) = O(1) (see :func:`worst_case_attenuation_limit`).
+
+    The preview past T sees zeros (the :func:`orrc.simulate` convention when w has exactly
+    T rows), so ``orrc.simulate(system, controller, 0, result.w, T)`` gives
+    R^p_T(γ*) = 0 up to rounding. ``cost`` defaults to the controller's own cost.
+    """
+    K, L, Mw, Q, R = _linear_loop(system, controller, cost)
+    T = as_int("T", T, minimum=1)
+    A, B = system.A, system.B
+    n = system.n
+    Qh, Rh = _sqrt_psd(Q), _sqrt_psd(R)
+    N = T * n
+    X = np.zeros((n, N))  # x_t = X vec W
+    rows = []
+    for t in range(T):
+        U = -K @ X
+        for i in range(Mw):
+            k = t + i
+            if k < T:
+                U[:, k * n:(k + 1) * n] -= L[:, i * n:(i + 1) * n]
+        rows.append(Qh @ X)
+        rows.append(Rh @ U)
+        X = A @ X + B @ U
+        X[:, t * n:(t + 1) * n] += np.eye(n)
+    G = np.vstack(rows)
+    gamma, v = _top_singular(G)
+    w = v.reshape(T, n)
+    j = int(np.argmax(np.abs(w.ravel())))
+    if w.ravel()[j] < 0:
+        w = -w
+    return Attenuation(gamma=gamma, w=w, T=T, G=G)
+
+
+def _closed_loop_ss(system, K, L, Mw, Q, R):
+    """State space (A, B, C, D) from the newest previewed disturbance to z = [Q^{1/2}x; R^{1/2}u]."""
+    A, Bu = system.A, system.B
+    n, m = Bu.shape
+    Qh, Rh = _sqrt_psd(Q), _sqrt_psd(R)
+    if Mw <= 1:
+        # LQR / zero input: the input is w_t itself. Preview M = 1: u = -Kx - L_0 w_t.
+        L0 = L[:, :n] if Mw == 1 else np.zeros((m, n))
+        Ac = A - Bu @ K
+        Bc = np.eye(n) - Bu @ L0
+        Cc = np.vstack([Qh, -Rh @ K])
+        Dc = np.vstack([np.zeros((Qh.shape[0], n)), -Rh @ L0])
+        return Ac, Bc, Cc, Dc
+    # state ξ = [x; b_0; ...; b_{M-2}] with b_i = w_{t+i}; input v = w_{t+M-1}
+    nb = (Mw - 1) * n
+    Lb, Lv = L[:, :nb], L[:, nb:]
+    Ac = np.zeros((n + nb, n + nb))
+    Ac[:n, :n] = A - Bu @ K
+    Ac[:n, n:] = -Bu @ Lb
+    Ac[:n, n:2 * n] += np.eye(n)                     # + w_t = b_0
+    Ac[n:nb, 2 * n:] = np.eye(nb - n)                # b_i⁺ = b_{i+1}
+    Bc = np.zeros((n + nb, n))
+    Bc[:n] = -Bu @ Lv
+    Bc[nb:] = np.eye(n)                              # b_{M-2}⁺ = v
+    Cc = np.vstack([np.hstack([Qh, np.zeros((Qh.shape[0], nb))]), np.hstack([-Rh @ K, -Rh @ Lb])])
+    Dc = np.vstack([np.zeros((Qh.shape[0], n)), -Rh @ Lv])
+    return Ac, Bc, Cc, Dc
+
+
+def worst_case_attenuation_limit(system: LinearSystem, controller: Controller, cost=None,
+                                 start: str = "stationary", tol: float = 1e-9) -> Attenuation:
+    """The T → ∞ attenuation of a linear closed loop: the squared H∞ norm from w to the cost output.
+
+    The cost output is z_t = [Q^{1/2} x_t; R^{1/2} u_t], so Σ c_t = Σ ‖z_t‖².
+    For Algorithm 1 the input u_t depends on w_t..w_{t+M-1}; the loop is causal in the
+    newest previewed disturbance v_t = w_{t+M-1} once the state is augmented with the
+    buffer (w_t, ..., w_{t+M-2}): ξ_{t+1} = A_c ξ_t + B_c v_t, z_t = C_c ξ_t + D_c v_t
+    (``result.closed_loop``). The map v → z is the map w → z delayed by M - 1 steps.
+
+    ``start="stationary"`` (default): γ_∞ = ‖v → z‖²_{H∞}. This is the attenuation level
+    in the sense of Theorem 1: for bounded disturbances, R^p_T(γ) stays O(1) for every
+    disturbance sequence when γ > γ_∞, and a sinusoid at the peak frequency makes it grow
+    linearly in T when γ < γ_∞. This is the number to set beside the certified γ_c.
+
+    ``start="cold"``: the limit of :func:`worst_case_attenuation` (x_0 = 0, the exact
+    "R^p_T(γ) <= 0 for every w" level) as T → ∞. For LQR, zero input and M = 1 it equals
+    the stationary value. With preview M >= 2 it can be larger: at t = 0 the controller
+    meets w_0..w_{M-2} without having seen them coming (in the stationary loop it would
+    have acted on them M - 1 steps earlier), so they act like an initial state
+    ξ_0 = [0; w_0..w_{M-2}] and the worst finite-T disturbance concentrates at the start.
+    This start-up effect is O(1): it does not change the stationary level. Computed
+    exactly: for γ > γ_∞, sup_v Σ (‖z_t‖² - γ‖v_t‖²) from ξ_0 is ξ_0ᵀ X_γ ξ_0 with X_γ the
+    stabilising solution of the H∞ (bounded-real) Riccati equation
+    X = A_cᵀXA_c + C_cᵀC_c + (A_cᵀXB_c + C_cᵀD_c)(γI - D_cᵀD_c - B_cᵀXB_c)⁻¹(B_cᵀXA_c + D_cᵀC_c)
+    (``scipy.linalg.solve_discrete_are`` with the indefinite weight D_cᵀD_c - γI), so the
+    cold-start level is max(γ_∞, the root of λ_max(X_γ restricted to the buffer) = γ).
+
+    The H∞ norm is python-control's ``control.system_norm(sys, p='inf')``. Without Slycot,
+    python-control refuses discrete-time systems with poles at z = 0 (the buffer has
+    them), so the system is first mapped to continuous time by the inverse bilinear
+    transform s = 2(z - 1)/(z + 1), which maps the unit circle onto the imaginary axis and
+    preserves the H∞ norm (the same map python-control applies internally); and since its
+    routine (0.10.2) assumes a square transfer matrix, zero input columns are appended
+    (σ_max([G 0]) = σ_max(G)). An unstable closed loop has no finite limit: ``gamma = inf``
+    with a ``reason``.
+    """
+    import control
+
+    K, L, Mw, Q, R = _linear_loop(system, controller, cost)
+    if start not in ("stationary", "cold"):
+        raise OrrcValueError(f"start must be 'stationary' or 'cold'; got {start!r}")
+    tol = as_float("tol", tol, minimum=0.0, strict_min=True)
+    Ad, Bd, Cd, Dd = _closed_loop_ss(system, K, L, Mw, Q, R)
+    sys_d = control.ss(Ad, Bd, Cd, Dd, dt=True)
+    rho = float(np.max(np.abs(np.linalg.eigvals(Ad))))
+    if rho >= 1.0 - 1e-12:
+        return Attenuation(gamma=math.inf, closed_loop=sys_d, start=start,
+                           reason=f"the closed loop is not stable (spectral radius {rho:.6g} >= 1): "
+                                  "the worst-case attenuation grows without bound with T")
+    I = np.eye(Ad.shape[0])
+    Ainv = np.linalg.inv(Ad + I)
+    Ac, Bc, Cc, Dc = 2 * (Ad - I) @ Ainv, 2 * Ainv @ Bd, 2 * Cd @ Ainv, Dd - Cd @ Ainv @ Bd
+    # python-control 0.10.2's scipy L∞ routine assumes as many outputs as inputs; zero
+    # input columns / output rows make the system square without changing its norm
+    p, q = Cc.shape[0], Bc.shape[1]
+    if p > q:
+        Bc, Dc = np.hstack([Bc, np.zeros((Bc.shape[0], p - q))]), np.hstack([Dc, np.zeros((p, p - q))])
+    elif q > p:
+        Cc, Dc = np.vstack([Cc, np.zeros((q - p, Cc.shape[1]))]), np.vstack([Dc, np.zeros((q - p, q))])
+    sys_c = control.ss(Ac, Bc, Cc, Dc)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        norm = float(control.system_norm(sys_c, p="inf", tol=tol, method="scipy"))
+    gamma_inf = norm ** 2
+    n = system.n
+    if start == "stationary" or Ad.shape[0] == n or gamma_inf == 0.0:
+        return Attenuation(gamma=gamma_inf, closed_loop=sys_d, start=start)
+    return Attenuation(gamma=_cold_start_level(Ad, Bd, Cd, Dd, n, gamma_inf, tol), closed_loop=sys_d,
+                       start=start)
+
+
+def _cold_start_level(A, B, C, D, n, gamma_inf, tol):
+    """max(γ_∞, root of λ_max(X_γ[buffer]) = γ) (see :func:`worst_case_attenuation_limit`)."""
+    from scipy import linalg, optimize
+
+    q = B.shape[1]
+    DtD, CtD, CtC = D.T @ D, C.T @ D, C.T @ C
+
+    def excess(g):
+        X = linalg.solve_discrete_are(A, B, CtC, DtD - g * np.eye(q), s=CtD)
+        S = g * np.eye(q) - DtD - B.T @ X @ B
+        if np.linalg.eigvalsh(0.5 * (S + S.T))[0] <= 0:
+            raise np.linalg.LinAlgError("not the stabilising bounded-real solution")
+        Xbb = X[n:, n:]
+        return float(np.linalg.eigvalsh(0.5 * (Xbb + Xbb.T))[-1]) - g
+
+    lo = None
+    for rel in (1e-9, 1e-7, 1e-5, 1e-3):  # the Riccati equation degenerates at γ_∞ itself
+        try:
+            f_lo = excess(gamma_inf * (1 + rel))
+            lo = gamma_inf * (1 + rel)
+            break
+        except (np.linalg.LinAlgError, ValueError):
+            continue
+    if lo is None:
+        raise RuntimeError("the bounded-real Riccati equation could not be solved near the H∞ level")
+    if f_lo <= 0:
+        return gamma_inf
+    hi = 2 * lo
+    while excess(hi) > 0:
+        hi *= 2
+    return float(optimize.brentq(excess, lo, hi, xtol=tol * hi, rtol=4 * np.finfo(float).eps))

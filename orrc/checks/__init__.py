@@ -1,0 +1,14 @@
+"""The paper's inequalities checked step by step along simulated trajectories, one module per section.
+
+* :mod:`orrc.checks.known` -- the known system (Section 5.1): the class condition on V_M,
+  Lemma 1, Lemma 2 and Theorem 1.
+
+Each function takes a :class:`~orrc.Trajectory` and the paper's constants and returns the
+margins ``bound - actual`` at every step (:class:`Margins`; >= 0 means the inequality
+holds there). Every public name is importable from ``orrc.checks`` directly.
+"""
+from .known import Lemma1Margins, Margins, lemma1_margins, lemma2_margins, theorem1_margin, value_bound_margins
+from . import known
+
+__all__ = ["Margins", "Lemma1Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
+           "theorem1_margin"]

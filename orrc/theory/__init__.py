@@ -1,0 +1,21 @@
+"""The paper's theory as pure functions of its constants, one module per section.
+
+* :mod:`orrc.theory.known` -- the known system (Section 5.1): the horizon threshold,
+  Lemma 1's Γ_V and Γ^γ_V, Lemma 2's decay rate a, b and coefficients M_{w,j}, Theorem 1's
+  γ_c and its explicit constant, the remark's γ̃.
+
+Every function takes the paper's constants and returns a number (or an array of
+coefficients); none of them knows about a system, a controller or a trajectory.
+Computing the constants of a concrete problem is :mod:`orrc.certify`; checking the
+inequalities along a simulated trajectory is :mod:`orrc.checks`. Every public name is
+importable from ``orrc.theory`` directly.
+"""
+from .known import (Gamma_V, Gamma_V_gamma, above_threshold, decay_b, gamma_c, gamma_c_remark, gamma_tilde,
+                    horizon_threshold, lemma2_bound, lemma2_coefficients, min_decay_rate, theorem1_constant)
+from . import known
+
+__all__ = [
+    "horizon_threshold", "above_threshold", "min_decay_rate", "decay_b", "Gamma_V", "Gamma_V_gamma",
+    "lemma2_coefficients", "lemma2_bound", "gamma_c", "theorem1_constant", "gamma_tilde",
+    "gamma_c_remark",
+]
