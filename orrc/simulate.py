@@ -38,6 +38,7 @@ class Trajectory:
     success : (T,) solver success per step; status : list of solver statuses
     iterations, solve_times : (T,) solver iterations and seconds per step
     wall_time : seconds for the whole simulation
+    info : what the controller recorded during the run (``Controller.record()``; empty by default)
     """
 
     x: np.ndarray
@@ -184,4 +185,5 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
     alpha_lo = seq.alpha_lo if seq is not None else stage.alpha_lo
     return Trajectory(x=X, u=U, w=np.array(wpad[:T]), w_all=np.array(wpad), costs=C, sigma=sig, values=values, success=ok,
                       status=status, iterations=iters, solve_times=times, controller=controller.name,
-                      preview_w=Mw, preview_c=Mc, alpha_lo=alpha_lo, wall_time=wall)
+                      preview_w=Mw, preview_c=Mc, alpha_lo=alpha_lo, wall_time=wall,
+                      info=dict(controller.record()))

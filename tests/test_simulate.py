@@ -111,3 +111,29 @@ def test_linearize_is_the_jacobian_of_f_and_lqr_uses_it():
     K_nl = orrc.LQR(ex.system, ex.cost).K
     K_lin = orrc.LQR(orrc.LinearSystem(A0, B0), ex.cost).K
     np.testing.assert_allclose(K_nl, K_lin, rtol=1e-12)
+
+
+def test_trajectory_info_holds_what_the_controller_recorded():
+    class Counting(orrc.Controller):
+        name = "counting"
+
+        def __init__(self):
+            self.cost = orrc.QuadraticCost([[1.0]], [[1.0]])
+            self.steps = []
+
+        def reset(self):
+            self.steps = []
+
+        def control(self, obs):
+            self.steps.append(obs.t)
+            return orrc.Decision(u=np.zeros(1))
+
+        def record(self):
+            return {"steps": np.array(self.steps)}
+
+    sys1 = orrc.LinearSystem([[0.5]], [[1.0]])
+    c = Counting()
+    traj = orrc.simulate(sys1, c, [1.0], np.zeros((5, 1)), T=5)
+    assert np.array_equal(traj.info["steps"], np.arange(5))
+    traj2 = orrc.simulate(sys1, orrc.ZeroInput(1, c.cost), [1.0], np.zeros((5, 1)), T=5)
+    assert traj2.info == {}

@@ -56,5 +56,15 @@ class Controller:
     def reset(self) -> None:
         """Forget any state kept from a previous run (called by ``simulate``)."""
 
+    def record(self) -> dict:
+        """What the controller learned or decided during the run, beyond u_t (called by ``simulate``
+        once, after the last step; the result becomes ``Trajectory.info``).
+
+        Default: nothing. Controllers with internal state report it here, e.g. the phase of each
+        step and the estimate θ̂ (Algorithm 2), or per-step bounds of a min-max solve (Algorithm 3).
+        Values are numpy arrays with time along axis 0 where they are per step.
+        """
+        return {}
+
     def control(self, obs: Observation) -> Decision:  # pragma: no cover - abstract
         raise NotImplementedError
