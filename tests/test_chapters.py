@@ -2,7 +2,7 @@
 
 The chapters are MyST Markdown notebooks. The session's one book build (the ``book``
 fixture of conftest.py: forced execution of every chapter, in a fresh kernel each)
-writes each executed notebook to ``_build/jupyter_execute/<page>.ipynb``; this test
+writes each executed notebook to ``_build/test/_build/jupyter_execute/<page>.ipynb``; this test
 reads them back, one test per chapter of _toc.yml, so that a failing chapter is named.
 """
 import nbformat
