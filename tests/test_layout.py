@@ -16,12 +16,14 @@ PUBLIC = {
                      "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit"],
     "orrc.checks": ["Margins", "Lemma1Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
                     "theorem1_margin"],
+    "orrc.viz": ["explore", "Explorer", "figure_to_png", "figures", "glue", "plots", "theory_plots"],
 }
 
 SECTIONS = {
     "orrc.theory": ["known"],
     "orrc.certify": ["constants", "sampled", "attenuation"],
     "orrc.checks": ["known"],
+    "orrc.viz": ["explore", "notebook"],
 }
 
 

@@ -10,27 +10,36 @@ values, and returns an :class:`Explorer` whose notebook output carries
   of JavaScript that flip between them, no kernel needed (the rendered book shows
   this one: ``_config.yml`` drops the widget mime type for the HTML builder).
 
-Because both come from the same ``plot`` function, they cannot drift apart.
+Because both come from the same ``plot`` function, they cannot drift apart. Every
+frame is rendered twice by :func:`orrc.viz.figures.render`, at 100 dpi with fonts of
+at least 9 pt: wide, and narrow for a phone (panels stacked); the page shows the one
+that fits its column (:func:`orrc.viz.figures.picture_html`).
+
 The HTML contract (used by the browser tests): a ``div.orrc-frames`` holding one
-``input[type=range]`` per parameter and one ``img.orrc-frame``.
+``input.orrc-slider[type=range]`` per parameter and a ``div.orrc-figure`` with an
+``img.orrc-frame[data-variant=wide]`` and (for a frame wider than a phone's column) an
+``img.orrc-frame[data-variant=narrow]``; the frame data (``script.orrc-frame-data``, JSON)
+holds ``images`` (wide) and ``narrow`` (or null), one PNG per combination, keyed by the
+slider positions joined with ``_``.
 """
 from __future__ import annotations
 
 import base64
 import html
-import io
 import itertools
 import json
 import uuid
 
-from .._validate import OrrcValueError
+from .._validate import OrrcValueError, as_int
+from .figures import DPI, figure_to_png, picture_html, render  # noqa: F401 (figure_to_png: re-exported)
 
 _JS = """
 (function () {
   var root = document.getElementById(%(id)s);
   if (!root) { return; }
   var frames = JSON.parse(root.querySelector('script.orrc-frame-data').textContent);
-  var img = root.querySelector('img.orrc-frame');
+  var wide = root.querySelector('img.orrc-frame[data-variant=wide]');
+  var narrow = root.querySelector('img.orrc-frame[data-variant=narrow]');
   var sliders = root.querySelectorAll('input.orrc-slider');
   function update() {
     var key = [];
@@ -39,21 +48,13 @@ _JS = """
       var out = root.querySelector('output[for="' + s.id + '"]');
       if (out) { out.textContent = s.dataset.labels.split('|')[Number(s.value)]; }
     });
-    img.src = 'data:' + frames.mime + ';base64,' + frames.images[key.join('_')];
+    var k = key.join('_'), head = 'data:' + frames.mime + ';base64,';
+    wide.src = head + frames.images[k];
+    if (narrow && frames.narrow) { narrow.src = head + frames.narrow[k]; }
   }
   sliders.forEach(function (s) { s.addEventListener('input', update); });
 })();
 """
-
-
-def figure_to_png(fig, dpi: int = 80) -> bytes:
-    """Render a matplotlib figure to PNG bytes and close it."""
-    import matplotlib.pyplot as plt
-
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
-    plt.close(fig)
-    return buf.getvalue()
 
 
 def _fmt(v) -> str:
@@ -70,13 +71,17 @@ class Explorer:
         self.widget = self._widget() if live else None
 
     def _render_frames(self) -> dict:
+        """``{"images": key -> wide PNG (base64), "narrow": key -> narrow PNG or None}``."""
         names = list(self.params)
-        frames = {}
+        wide, narrow = {}, {}
         for idx in itertools.product(*(range(len(self.params[k])) for k in names)):
             kwargs = {k: self.params[k][i] for k, i in zip(names, idx)}
-            frames["_".join(map(str, idx))] = base64.b64encode(
-                figure_to_png(self.plot(**kwargs), self.dpi)).decode("ascii")
-        return frames
+            key = "_".join(map(str, idx))
+            w, n = render(self.plot(**kwargs), self.dpi)
+            wide[key] = base64.b64encode(w).decode("ascii")
+            narrow[key] = None if n is None else base64.b64encode(n).decode("ascii")
+        has_narrow = all(v is not None for v in narrow.values())
+        return {"images": wide, "narrow": narrow if has_narrow else None}
 
     def _html(self) -> str:
         uid = "orrc-" + uuid.uuid4().hex[:10]
@@ -94,11 +99,13 @@ class Explorer:
                 f'data-labels="{html.escape("|".join(labels))}" aria-label="{html.escape(k)}">'
                 f'<output for="{sid}">{html.escape(labels[start[j]])}</output></label>')
         key = "_".join(map(str, start))
-        data = json.dumps({"mime": "image/png", "images": self.frames})
+        data = json.dumps({"mime": "image/png", **self.frames})
+        narrow = self.frames["narrow"]
+        first = picture_html(base64.b64decode(self.frames["images"][key]),
+                             None if narrow is None else base64.b64decode(narrow[key]),
+                             alt="figure", cls="orrc-frame", uid=f"{uid}-fig")
         return (f'<div class="orrc-frames" id="{uid}">'
-                + "".join(rows)
-                + f'<img class="orrc-frame" style="max-width:100%" alt="figure" '
-                  f'src="data:image/png;base64,{self.frames[key]}">'
+                + "".join(rows) + first
                 + f'<script type="application/json" class="orrc-frame-data">{data}</script>'
                 + f"<script>{_JS % {'id': json.dumps(uid)}}</script></div>")
 
@@ -134,13 +141,18 @@ class Explorer:
         return bundle
 
 
-def explore(plot, dpi: int = 80, live: bool = True, initial: dict | None = None, **params) -> Explorer:
+MAX_FRAMES = 100   # a page with more frames is slow to build and heavy to load
+
+
+def explore(plot, dpi: int = DPI, live: bool = True, initial: dict | None = None, **params) -> Explorer:
     """Precompute ``plot(**kwargs)`` on the grid of ``params`` and return an :class:`Explorer`.
 
     ``params``: name -> list of values (e.g. ``M=[2, 5, 10]``); ``initial``: the
-    values shown first (default: the first of each list). Keep grids small
-    (a few values each): every combination is one precomputed image.
+    values shown first (default: the first of each list); ``dpi``: at least 100 (below
+    it tick labels are illegible). Keep grids small (a few values each): every
+    combination is two precomputed images (wide and narrow).
     """
+    dpi = as_int("dpi", dpi, minimum=DPI)
     if not callable(plot):
         raise OrrcValueError(f"plot must be a function returning a matplotlib Figure; got {type(plot).__name__}")
     if not params:
@@ -149,6 +161,14 @@ def explore(plot, dpi: int = 80, live: bool = True, initial: dict | None = None,
     for k, v in params.items():
         if not v:
             raise OrrcValueError(f"parameter {k!r} has no values")
+    n_frames = 1
+    for v in params.values():
+        n_frames *= len(v)
+    if n_frames > MAX_FRAMES:
+        raise OrrcValueError(
+            f"the grid {' x '.join(f'{k} ({len(v)})' for k, v in params.items())} has {n_frames} combinations: "
+            f"{2 * n_frames} images to render (about {n_frames // 2} s and {n_frames * 80 // 1000} MB in the page); "
+            f"at most {MAX_FRAMES} are allowed: keep a few values per parameter")
     initial = dict(initial or {})
     for k, v in params.items():
         initial.setdefault(k, v[0])
