@@ -29,6 +29,8 @@ import io
 import re
 import uuid
 
+from matplotlib.ticker import LogFormatter
+
 DPI = 100                  # the rendering resolution: 100 px per figure inch
 MIN_FONT_PT = 9.0          # the smallest font in any figure
 WIDE_IN = 7.4              # 740 px at 100 dpi: fits the 757 px column at 1366 px
@@ -77,10 +79,17 @@ def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True) -
 
 # ---------------------------------------------------------------- legibility
 
+class _PlainLogFormatter(LogFormatter):
+    """LogFormatter's choice of which ticks to label, printed as plain numbers (0.6, 3, 40)."""
+
+    def _num_to_string(self, x, vmin, vmax):
+        return f"{x:.3g}"
+
+
 def _tidy_ticks(ax) -> None:
     """Linear axes: ticks in steps of 1, 2 or 5 (never 2.5: no 42.5, 47.5). Log axes that span
     less than two decades: plain labels (3, 30) instead of 3×10⁰."""
-    from matplotlib.ticker import AutoLocator, LogFormatter, LogFormatterSciNotation, MaxNLocator
+    from matplotlib.ticker import AutoLocator, LogFormatterSciNotation, MaxNLocator
 
     for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
         scale = axis.get_scale()
@@ -91,8 +100,8 @@ def _tidy_ticks(ax) -> None:
             if lo > 0 and hi / lo < 100:
                 for which, fmt in (("major", axis.get_major_formatter()), ("minor", axis.get_minor_formatter())):
                     if type(fmt) is LogFormatterSciNotation:
-                        plain = LogFormatter(labelOnlyBase=which == "major" and hi / lo >= 10,
-                                             minor_thresholds=(2, 0.5))
+                        plain = _PlainLogFormatter(labelOnlyBase=which == "major" and hi / lo >= 10,
+                                                   minor_thresholds=(2, 0.5))
                         (axis.set_major_formatter if which == "major" else axis.set_minor_formatter)(plain)
 
 
@@ -116,14 +125,22 @@ def legible(fig, min_pt: float = MIN_FONT_PT):
 
     fig = _figure_arg("fig", fig)
     min_pt = as_float("min_pt", min_pt, minimum=1.0, maximum=72.0)
+    texts = list(fig.texts) + [getattr(fig, "_suptitle", None)]
+    texts += [t for leg in fig.legends for t in [*leg.get_texts(), leg.get_title()]]
     for ax in fig.axes:
         for axis in (ax.xaxis, ax.yaxis):
             for which in ("major", "minor"):
                 if _tick_label_pt(axis, which) < min_pt:
                     axis.set_tick_params(which=which, labelsize=min_pt)
+            texts += [axis.label, axis.get_offset_text()]
         _tidy_ticks(ax)
-    for t in fig.findobj(Text):
-        if t.get_fontsize() < min_pt:
+        texts += [ax.title, ax._left_title, ax._right_title, *ax.texts]
+        texts += [c for c in ax.get_children() if isinstance(c, Text)]     # annotations, table cells
+        leg = ax.get_legend()
+        if leg is not None:
+            texts += [*leg.get_texts(), leg.get_title()]
+    for t in texts:   # every text but the tick labels (set above), without walking every artist
+        if t is not None and t.get_fontsize() < min_pt:
             t.set_fontsize(min_pt)
     return fig
 
@@ -213,12 +230,11 @@ class narrowed:
                     extra += self._wrap(ax.title, self.width - 0.6)
                 leg = ax.get_legend()
                 if leg is not None:
-                    self._set(leg.set_ncols, leg._ncols, 1)
                     anchor = leg.get_bbox_to_anchor().transformed(ax.transAxes.inverted())
+                    if leg._ncols > 1:
+                        self._one_column(ax, leg, anchor)
                     if anchor.y1 < 0.05:  # a legend below the axes: room for its rows
                         extra += 0.19 * len(leg.get_texts()) + 0.15
-        for leg in fig.legends:
-            self._set(leg.set_ncols, leg._ncols, 1)
         sup = getattr(fig, "_suptitle", None)
         if sup is not None and sup.get_text():
             extra += self._wrap(sup, self.width) + 0.22
@@ -226,6 +242,17 @@ class narrowed:
         size = (self.width, max(len(panels), 1) * self.panel_height + extra)
         self._set(lambda wh: fig.set_size_inches(*wh), tuple(fig.get_size_inches()), size)
         return fig
+
+    def _one_column(self, ax, leg, anchor) -> None:
+        """Replace the axes' legend by the same legend in one column (a legend's layout is fixed
+        when it is made), and put the original back on exit."""
+        texts = leg.get_texts()
+        new = ax.legend(leg.legend_handles, [t.get_text() for t in texts], loc=leg._loc,
+                        bbox_to_anchor=(anchor.x0, anchor.y0, anchor.width, anchor.height),
+                        bbox_transform=ax.transAxes, ncols=1, frameon=leg.get_frame_on(),
+                        fontsize=texts[0].get_fontsize() if texts else None)
+        self._undo.append((lambda old, a=ax: setattr(a, "legend_", old), leg))
+        new.set_in_layout(leg.get_in_layout())
 
     def _wrap(self, text, width: float) -> float:
         """Wrap a Text to ``width`` inches; returns the height (inches) of the lines it gained."""

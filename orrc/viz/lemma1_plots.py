@@ -163,7 +163,7 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None) -> Figure:
     ax2.set_xlabel("$t$")
     ax2.set_title(rf"increments: $\Gamma_V = {lemma1.Gamma_V:.3g}$, $\Gamma^\gamma_V = {lemma1.Gamma_V_gamma:.3g}$",
                   fontsize=10)
-    _legend_below(ax2)
+    _legend_below(ax2, ncol=1)
     m = min(float(inc.margin.min()), float(low.margin.min()))
     head = (title + "\n") if title else ""
     fig.suptitle(f"{head}smallest margin (bound minus actual): {m:.3g}", fontsize=10)
