@@ -5,25 +5,67 @@ error or Sphinx warning fails the build (``-n -W --keep-going``). Every page is
 rebuilt and every chapter re-executed on every call (``--all`` with the forced
 execution of ``_config.yml``): Sphinx's incremental build only sees changes to the
 chapter sources, so without it a change in ``orrc/`` would leave stale outputs.
+
+A build that succeeds leaves a stamp, ``_build/orrc-build.json``: the digest of every input
+(:func:`inputs_digest`), the run size (``ORRC_QUICK``) and each chapter's run time. The
+solution-free edition (``tools/build_student.py``) reuses the build's executed notebooks only
+when the stamp matches the sources and the size it is asked for.
 """
 from __future__ import annotations
 
+import hashlib
+import json
 import subprocess
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+STAMP = "orrc-build.json"
+EXEC_TIMES = "orrc-exec-times.json"  # written by tools/sphinx_coursework.py when the build finishes
+INPUTS = ("_config.yml", "_toc.yml", "book/**/*", "orrc/**/*.py", "tools/*.py")
 
 
-def build(out: Path = ROOT, extra_env: dict | None = None) -> int:
+def inputs_digest(root: Path = ROOT) -> str:
+    """SHA-256 over the path and content of every file the book's output depends on."""
+    h = hashlib.sha256()
+    files = sorted({p for pattern in INPUTS for p in Path(root).glob(pattern)
+                    if p.is_file() and "__pycache__" not in p.parts and p.suffix != ".ipynb"})
+    for p in files:
+        h.update(p.relative_to(root).as_posix().encode() + b"\0" + p.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+def is_quick(env: dict) -> bool:
+    return env.get("ORRC_QUICK", "").strip().lower() in ("1", "true", "yes")
+
+
+def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT) -> int:
+    """Build the book in ``source`` into ``out/_build``; return jupyter-book's exit code."""
     import os
 
     env = dict(os.environ)
     env.setdefault("MPLBACKEND", "Agg")
     env.update(extra_env or {})
-    cmd = [str(Path(sys.executable).parent / "jupyter-book"), "build", str(ROOT), "--path-output", str(out),
+    stamp = Path(out) / "_build" / STAMP
+    stamp.unlink(missing_ok=True)
+    digest = inputs_digest(source)
+    cmd = [str(Path(sys.executable).parent / "jupyter-book"), "build", str(source), "--path-output", str(out),
            "--builder", "html", "--all", "-n", "-W", "--keep-going"]
-    return subprocess.call(cmd, cwd=ROOT, env=env)
+    rc = subprocess.call(cmd, cwd=source, env=env)
+    if rc == 0:
+        times = Path(out) / "_build" / EXEC_TIMES
+        runtimes = json.loads(times.read_text()) if times.is_file() else {}
+        stamp.write_text(json.dumps({"digest": digest, "quick": is_quick(env), "runtimes": runtimes}, indent=1))
+    return rc
+
+
+def read_stamp(out: Path = ROOT) -> dict | None:
+    """The stamp of the last successful build into ``out/_build`` (None when there is none)."""
+    stamp = Path(out) / "_build" / STAMP
+    try:
+        return json.loads(stamp.read_text())
+    except (OSError, ValueError):
+        return None
 
 
 if __name__ == "__main__":
