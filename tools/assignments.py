@@ -179,8 +179,6 @@ def grade(notebook: Path, autograder: Path, workdir: Path) -> dict:
     if workdir.exists():
         shutil.rmtree(workdir)
     workdir.mkdir(parents=True)
-    if notebook.suffix == ".md":
-        notebook = to_ipynb(notebook, workdir / (notebook.stem + ".ipynb"))
     proc = subprocess.run([_bin("otter"), "run", "-a", str(autograder), "-o", str(workdir), "--no-logo", str(notebook)],
                           capture_output=True, text=True)
     results = workdir / "results.json"
@@ -193,12 +191,33 @@ def grade(notebook: Path, autograder: Path, workdir: Path) -> dict:
             "questions": questions}
 
 
+def fill_in(student: Path, answers: Path, dest: Path) -> Path:
+    """A submission: the ``student`` notebook with its answer cells (otter's ``otter_answer_cell``)
+    replaced, in order, by the code cells of the jupytext notebook ``answers``, as a student fills
+    them in. The two counts must agree."""
+    import jupytext
+    import nbformat
+
+    nb = nbformat.read(student, as_version=4)
+    slots = [c for c in nb.cells if "otter_answer_cell" in c.metadata.get("tags", [])]
+    code = [c.source for c in jupytext.read(answers, fmt="md:myst").cells if c.cell_type == "code"]
+    if len(code) != len(slots):
+        raise ValueError(f"{answers}: {len(code)} answer cells for the {len(slots)} of {student.name}")
+    for cell, src in zip(slots, code):
+        cell.source = src
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    nbformat.write(nb, dest)
+    return dest
+
+
 def build_and_grade(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None) -> dict:
     """Build one assignment, then grade its solution notebook, its blank student notebook, and each
-    notebook of ``extra`` ({label: path}, e.g. a plausible wrong submission)."""
+    submission made from ``extra`` ({label: answers}, see :func:`fill_in`; e.g. a plausible wrong one)."""
     t0 = time.perf_counter()
     paths = build(name, out, root)
-    subs = {"solution": paths["solution"], "blank": paths["student"], **(extra or {})}
+    subs = {"solution": paths["solution"], "blank": paths["student"]}
+    for label, answers in (extra or {}).items():
+        subs[label] = fill_in(paths["student"], answers, Path(out) / name / "submissions" / f"{label}.ipynb")
     grades = {label: grade(nb, paths["autograder"], Path(out) / name / "graded" / label) for label, nb in subs.items()}
     return {"name": name, "paths": paths, "grades": grades, "seconds": time.perf_counter() - t0}
 
