@@ -141,12 +141,11 @@ def _solution_text(master: Path) -> list[str]:
 
 def leaked_solutions(master: Path, student: Path) -> list[str]:
     """Solution lines or hidden-test names of ``master`` that are still in the ``student`` notebook."""
-    text = student.read_text(encoding="utf-8")
-    import json as _json
+    import nbformat
 
-    sources = "\n".join(c["source"] if isinstance(c["source"], str) else "".join(c["source"])
-                        for c in _json.loads(text)["cells"]) + "\n" + text
-    return [ln for ln in _solution_text(master) if ln in sources]
+    nb = nbformat.read(student, as_version=4)  # its code cells and its metadata (the public tests)
+    text = "\n".join(c.source for c in nb.cells if c.cell_type == "code") + json.dumps(nb.metadata)
+    return [ln for ln in _solution_text(master) if ln in text]
 
 
 def build(name: str, out: Path = OUT, root: Path = SOURCES) -> dict:
