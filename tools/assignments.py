@@ -88,6 +88,9 @@ def read_assignment(path: Path) -> dict:
             fn = next(n.name for n in ast.parse(cell.source).body if isinstance(n, ast.FunctionDef))
             if not conf.get("points") or not conf.get("failure_message"):
                 raise ValueError(f"{path}: test {fn} of {q['name']} needs points and a failure_message")
+            if '"' in str(conf["failure_message"]) or "\\" in str(conf["failure_message"]):
+                raise ValueError(f"{path}: the failure_message of {fn} holds a double quote or a backslash, "
+                                 "which break the test file otter assign writes")
             q["tests"].append({"name": fn, "points": float(conf["points"]), "hidden": bool(conf.get("hidden")),
                                "checks": str(conf["failure_message"])})
     for q in questions:
@@ -186,6 +189,9 @@ def grade(notebook: Path, autograder: Path, workdir: Path) -> dict:
     tests = json.loads(results.read_text())["tests"]
     questions = {t["name"]: (float(t.get("score") or 0.0), float(t["max_score"]), t.get("output", ""))
                  for t in tests if t.get("max_score") is not None}
+    if not questions:  # otter's "Autograder Failed": the notebook or a test file did not run at all
+        raise RuntimeError(f"otter run graded no question of {notebook}: "
+                           + "; ".join(str(t.get("output", ""))[-1500:] for t in tests))
     return {"score": sum(s for s, _, _ in questions.values()), "points": sum(p for _, p, _ in questions.values()),
             "questions": questions}
 
