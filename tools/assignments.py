@@ -243,6 +243,19 @@ def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None)
         return list(pool.map(lambda n: build_and_grade(n, out, root, extra(n) if extra else None), names(root)))
 
 
+def summary(results: list[dict]) -> tuple[str, int]:
+    """The report of :func:`main`: one line per assignment (and, for a failure, what failed), and the
+    exit code: 1 when a solution gets less than full marks or a blank notebook gets full marks."""
+    out = []
+    for r in results:
+        out.append(line(r) + ("" if ok(r) else "   <-- FAILED"))
+        if not ok(r):
+            for q, (score, pts, output) in r["grades"]["solution"]["questions"].items():
+                if score < pts:
+                    out.append(f"  {r['name']} solution, {q}: {score:g}/{pts:g}\n{output}")
+    return "\n".join(out), 1 if (not results or not all(ok(r) for r in results)) else 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="Build every assignment's student notebook and autograder, "
                                              "grade the solutions and the blank notebooks.")
@@ -250,17 +263,11 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
     results = run_all(args.out)
-    bad = [r for r in results if not ok(r)]
-    for r in results:
-        print(line(r) + ("" if ok(r) else "   <-- FAILED"))
+    text, rc = summary(results)
+    print(text)
     print(f"{len(results)} assignments in {time.perf_counter() - t0:.0f} s; student notebooks in "
-          f"{args.out}/NAME/dist/student, autograders in {args.out}/NAME/dist/autograder")
-    for r in bad:
-        for label in ("solution", "blank"):
-            for q, (score, pts, output) in r["grades"][label]["questions"].items():
-                if (label == "solution" and score < pts):
-                    print(f"  {r['name']} {label} {q}: {score:g}/{pts:g}\n{output}")
-    return 1 if bad or not results else 0
+          f"{args.out}/NAME/dist/student/, autograders in {args.out}/NAME/dist/autograder/")
+    return rc
 
 
 if __name__ == "__main__":
