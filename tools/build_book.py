@@ -6,10 +6,12 @@ rebuilt and every chapter re-executed on every call (``--all`` with the forced
 execution of ``_config.yml``): Sphinx's incremental build only sees changes to the
 chapter sources, so without it a change in ``orrc/`` would leave stale outputs.
 
-A build that succeeds leaves a stamp, ``_build/orrc-build.json``: the digest of every input
-(:func:`inputs_digest`), the run size (``ORRC_QUICK``) and each chapter's run time. The
-solution-free edition (``tools/build_student.py``) reuses the build's executed notebooks only
-when the stamp matches the sources and the size it is asked for.
+``_config.yml`` executes in MyST-NB's "cache" mode, and the cache (``_build/.jupyter_cache``)
+is emptied here before every build, so every chapter is executed as with "force" and the
+executed notebooks, with their glue outputs, are kept. A build that succeeds leaves a stamp,
+``_build/orrc-build.json``: the digest of every input (:func:`inputs_digest`) and the run size
+(``ORRC_QUICK``). The solution-free edition (``tools/build_student.py``) reuses the cached
+notebooks only when the stamp matches the sources and the size it is asked for.
 """
 from __future__ import annotations
 
@@ -21,12 +23,13 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 STAMP = "orrc-build.json"
-EXEC_TIMES = "orrc-exec-times.json"  # written by tools/sphinx_coursework.py when the build finishes
-INPUTS = ("_config.yml", "_toc.yml", "book/**/*", "orrc/**/*.py", "tools/*.py")
+CACHE = ".jupyter_cache"  # MyST-NB's default place, beside html/
+INPUTS = ("_config.yml", "_toc.yml", "book/**/*", "orrc/**/*.py")
 
 
 def inputs_digest(root: Path = ROOT) -> str:
-    """SHA-256 over the path and content of every file the book's output depends on."""
+    """SHA-256 over the path and content of every file the executed chapters depend on: the book's
+    sources and configuration and the package (not tools/, which only renders)."""
     h = hashlib.sha256()
     files = sorted({p for pattern in INPUTS for p in Path(root).glob(pattern)
                     if p.is_file() and "__pycache__" not in p.parts and p.suffix != ".ipynb"})
@@ -42,20 +45,20 @@ def is_quick(env: dict) -> bool:
 def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT) -> int:
     """Build the book in ``source`` into ``out/_build``; return jupyter-book's exit code."""
     import os
+    import shutil
 
     env = dict(os.environ)
     env.setdefault("MPLBACKEND", "Agg")
     env.update(extra_env or {})
     stamp = Path(out) / "_build" / STAMP
     stamp.unlink(missing_ok=True)
+    shutil.rmtree(Path(out) / "_build" / CACHE, ignore_errors=True)  # never a stale output
     digest = inputs_digest(source)
     cmd = [str(Path(sys.executable).parent / "jupyter-book"), "build", str(source), "--path-output", str(out),
            "--builder", "html", "--all", "-n", "-W", "--keep-going"]
     rc = subprocess.call(cmd, cwd=source, env=env)
     if rc == 0:
-        times = Path(out) / "_build" / EXEC_TIMES
-        runtimes = json.loads(times.read_text()) if times.is_file() else {}
-        stamp.write_text(json.dumps({"digest": digest, "quick": is_quick(env), "runtimes": runtimes}, indent=1))
+        stamp.write_text(json.dumps({"digest": digest, "quick": is_quick(env)}, indent=1))
     return rc
 
 

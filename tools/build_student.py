@@ -10,10 +10,11 @@ on gated solutions.)
 
 Executing once, not twice. When the normal build (``make book``, or the test session's build)
 is fresh -- its stamp ``_build/orrc-build.json`` has the digest of the current sources and the
-run size asked for here -- its executed notebooks are reused: for each chapter the code cells
-outside the solutions, with their outputs, are put into a Jupyter cache (jupyter-cache, which
-MyST-NB reads with ``execute_notebooks: cache``) under the hash of the stripped chapter, so
-the student build finds every chapter executed and runs no kernel. A chapter in which a
+run size asked for here -- its executed notebooks are reused: the normal build keeps them in its
+Jupyter cache ``_build/.jupyter_cache`` (see tools/build_book.py); for each chapter the code
+cells outside the solutions, with their outputs, are put into the student build's own cache
+under the hash of the stripped chapter, so MyST-NB (``execute_notebooks: cache``) finds every
+chapter executed and runs no kernel. A chapter in which a
 code cell outside the solutions follows a solution's code cell is not reused (its outputs
 might depend on the solution having run) and is executed without its solutions instead, as is
 every chapter when there is no fresh normal build.
@@ -30,7 +31,7 @@ from pathlib import Path
 
 import yaml
 
-from tools.build_book import ROOT, build, inputs_digest, is_quick, read_stamp
+from tools.build_book import CACHE, ROOT, build, inputs_digest, is_quick, read_stamp
 from tools.solutions import parse, strip_solutions
 from tools.toc import notebook_pages
 
@@ -58,10 +59,13 @@ def stripped_copy(dest: Path, root: Path = ROOT) -> dict[str, int]:
     return removed
 
 
-def _student_config(dest: Path, cache: Path | None) -> None:
+def _student_config(dest: Path, cache: Path | None, root: Path = ROOT) -> None:
+    """The copy's _config.yml: the edition in the title, the cache to read, and the assignments
+    folder of the original (read by the instructor's guide; never copied)."""
     cfg_path = dest / "_config.yml"
     cfg = yaml.safe_load(cfg_path.read_text(encoding="utf-8"))
     cfg["title"] = str(cfg.get("title", "")) + TITLE_SUFFIX
+    cfg.setdefault("sphinx", {}).setdefault("config", {})["coursework_assignments"] = str(Path(root) / "assignments")
     if cache is not None:
         cfg.setdefault("execute", {})
         cfg["execute"]["execute_notebooks"] = "cache"
@@ -76,27 +80,30 @@ def _md_config(dest: Path):
     return MdParserConfig(enable_extensions=set(cfg.get("parse", {}).get("myst_enable_extensions", [])))
 
 
-def reusable_notebooks(dest: Path, executed: Path, root: Path = ROOT, runtimes: dict | None = None):
-    """For each chapter, the stripped notebook (as MyST-NB reads the copy in ``dest``) with the outputs of
-    the normal build's executed notebook in ``executed``; chapters that cannot be reused are left out,
-    with the reason. Returns ({page: notebook}, {page: reason})."""
-    import nbformat
+def reusable_notebooks(dest: Path, normal_cache: Path, root: Path = ROOT):
+    """For each chapter, the stripped notebook (as MyST-NB reads the copy in ``dest``) with the outputs
+    its code cells got in the normal build, read from that build's Jupyter cache ``normal_cache``
+    (where the glue outputs are kept; ``jupyter_execute/`` has them removed). Chapters that cannot
+    be reused are left out, with the reason. Returns ({page: (notebook, seconds)}, {page: reason})."""
+    from jupyter_cache import get_cache
     from myst_nb.core.read import read_myst_markdown_notebook
 
     md_config = _md_config(dest)
+    cache = get_cache(str(normal_cache))
     out, skipped = {}, {}
     for page in notebook_pages(root):
         full = parse(root / f"{page}.md")
-        ex_path = executed / f"{page}.ipynb"
-        if not ex_path.is_file():
-            skipped[page] = "no executed notebook"
+        nb_full = read_myst_markdown_notebook(full.path.read_text(encoding="utf-8"), md_config, add_source_map=True,
+                                              path=root / f"{page}.md")
+        try:
+            record = cache.match_cache_notebook(nb_full)
+        except KeyError:
+            skipped[page] = "not in the normal build's cache (a stale build?)"
             continue
-        ex_code = [c for c in nbformat.read(ex_path, as_version=4).cells if c.cell_type == "code"]
+        ex_code = [c for c in cache.get_cache_bundle(record.pk).nb.cells if c.cell_type == "code"]
         # which code cells of the full chapter sit inside a solution, in order
-        in_solution = []
-        for f in full.fences:
-            if f.directive == "code-cell":
-                in_solution.append(any(s.start < f.start < s.end for s in full.solutions))
+        in_solution = [any(s.start < f.start < s.end for s in full.solutions)
+                       for f in full.fences if f.directive == "code-cell"]
         if len(in_solution) != len(ex_code):
             skipped[page] = f"{len(ex_code)} executed code cells, {len(in_solution)} in the source"
             continue
@@ -109,25 +116,25 @@ def reusable_notebooks(dest: Path, executed: Path, root: Path = ROOT, runtimes: 
         kept = [c for c, sol in zip(ex_code, in_solution) if not sol]
         code = [c for c in nb.cells if c.cell_type == "code"]
         if [c.source for c in code] != [c.source for c in kept]:
-            skipped[page] = "the executed code cells differ from the source (a stale build?)"
+            skipped[page] = "the stripped chapter's code cells are not the executed ones outside the solutions"
             continue
         for cell, done in zip(code, kept):
             cell.outputs = done.get("outputs", [])
             cell.execution_count = done.get("execution_count")
-        out[page] = nb
+        out[page] = (nb, record.data.get("execution_seconds"))
     return out, skipped
 
 
-def fill_cache(cache_dir: Path, dest: Path, notebooks: dict, runtimes: dict) -> None:
-    """Put the reused notebooks into a fresh Jupyter cache at ``cache_dir``."""
+def fill_cache(cache_dir: Path, dest: Path, notebooks: dict) -> None:
+    """Put the reused notebooks into a fresh Jupyter cache at ``cache_dir`` (with their run times)."""
     from jupyter_cache import get_cache
     from jupyter_cache.base import CacheBundleIn
 
     if cache_dir.exists():
         shutil.rmtree(cache_dir)
     cache = get_cache(str(cache_dir))
-    for page, nb in notebooks.items():
-        data = {"execution_seconds": runtimes.get(page)} if runtimes.get(page) is not None else {}
+    for page, (nb, seconds) in notebooks.items():
+        data = {"execution_seconds": seconds} if seconds is not None else {}
         cache.cache_notebook_bundle(CacheBundleIn(nb, str(dest / f"{page}.md"), data=data),
                                     check_validity=False, overwrite=True)
 
@@ -155,13 +162,13 @@ def build_student(out: Path = ROOT, quick: bool | None = None, reuse: bool = Tru
     stamp = read_stamp(out) if reuse else None
     notebooks, skipped = {}, {}
     if stamp and stamp.get("digest") == inputs_digest(root) and bool(stamp.get("quick")) == quick:
-        notebooks, skipped = reusable_notebooks(source, Path(out) / "_build" / "jupyter_execute", root)
+        notebooks, skipped = reusable_notebooks(source, Path(out) / "_build" / CACHE, root)
         why = None
     else:
         why = ("no fresh normal build (its stamp does not match the sources or the run size)" if reuse
                else "reuse switched off")
-    fill_cache(cache_dir, source, notebooks, (stamp or {}).get("runtimes", {}))
-    _student_config(source, cache_dir)
+    fill_cache(cache_dir, source, notebooks)
+    _student_config(source, cache_dir, root)
     rc = build(source, extra_env={"ORRC_QUICK": "1" if quick else "0"}, source=source)
     html = base / "html"
     if html.exists():

@@ -16,13 +16,9 @@ built, never typed:
   when it fails (read by :func:`tools.assignments.read_assignment`). The folder is
   ``coursework_assignments`` (config value, relative to the book's root), so the
   solution-free edition, built from a copy without the assignments, reads the original.
-
-When the build finishes, the run time of every executed page is written to
-``_build/orrc-exec-times.json`` (read by tools/build_book.py into its stamp).
 """
 from __future__ import annotations
 
-import json
 import math
 import re
 import sys
@@ -177,14 +173,6 @@ class AssignmentGuide(SphinxDirective):
         return [para, _table(["question", "points", "test", "what it checks"], rows)]
 
 
-def write_exec_times(app: Sphinx, exception) -> None:
-    if exception is not None or app.builder.format != "html":
-        return
-    times = {doc: _runtime(app.env, doc) for doc in sorted(app.env.all_docs)}
-    out = Path(app.outdir).parent / "orrc-exec-times.json"
-    out.write_text(json.dumps({d: t for d, t in times.items() if t is not None}, indent=1))
-
-
 def setup(app: Sphinx) -> dict:
     app.add_config_value("coursework_assignments", "assignments", "env")
     app.add_node(coursework_ref)
@@ -192,7 +180,6 @@ def setup(app: Sphinx) -> dict:
         app.add_role(kind, _role(kind))
     app.add_directive("assignment-guide", AssignmentGuide)
     app.add_post_transform(ResolveCoursework)
-    app.connect("build-finished", write_exec_times)
     # the guide's run times come from every other page: rebuild it whenever anything is rebuilt
     app.connect("env-get-outdated", lambda app, env, added, changed, removed:
                 [d for d in env.all_docs if d.endswith("instructors")] if (added or changed) else [])
