@@ -118,8 +118,14 @@ def code_fragments(sources: list[str]) -> list[str]:
 
 @lru_cache(maxsize=None)
 def legit_text() -> str:
-    """Everything the student edition may show: every page's source without its solutions."""
-    return normal_form("\n".join(strip_solutions((ROOT / f"{p}.md").read_text(encoding="utf-8"), p) for p in SOURCES))
+    """Everything the student edition may show: every page's source without its solutions, and what
+    the instructor's guide reads from the assignments (the messages of their tests)."""
+    from tools import assignments
+
+    guide = [t["checks"] for n in assignments.names()
+             for q in assignments.read_assignment(assignments.SOURCES / n / f"{n}.md")["questions"] for t in q["tests"]]
+    return normal_form("\n".join([strip_solutions((ROOT / f"{p}.md").read_text(encoding="utf-8"), p) for p in SOURCES]
+                                  + guide))
 
 
 def distinctive(solution) -> list[str]:
@@ -168,8 +174,8 @@ def test_the_student_edition_builds_apart_and_reuses_the_executed_chapters(stude
         assert "follows a solution" in why, f"{page} was not reused: {why}"
     assert r["executed"] == len(r["not_reused"]), "a reused chapter was executed again"
     assert sum(r["removed"].values()) == len(SOLUTIONS)
-    index = (STUDENT / "html" / "index.html").read_text(encoding="utf-8")
-    assert "(student edition)" in index
+    first = (STUDENT / "html" / f"{PAGES[0]}.html").read_text(encoding="utf-8")
+    assert "(student edition)" in first and "(student edition)" not in (NORMAL / "html" / f"{PAGES[0]}.html").read_text()
 
 
 def test_every_solution_is_checked_and_found_in_the_normal_edition(normal_tree):

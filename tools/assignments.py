@@ -56,7 +56,8 @@ def _raw_header(cell) -> tuple[str, dict]:
 
 
 def read_assignment(path: Path) -> dict:
-    """What an assignment source says about itself: title, chapters, minutes, questions and tests.
+    """What an assignment source says about itself: title, chapters (pages of the book; an entry
+    ``Title <page>`` names a page not yet written), minutes, questions and tests.
 
     Each test: its function name, points, whether it is hidden, and ``checks``, the message it
     shows when it fails (its ``failure_message``). Raises ValueError on a question without tests,
@@ -96,7 +97,14 @@ def read_assignment(path: Path) -> dict:
     for q in questions:
         if not q["tests"]:
             raise ValueError(f"{path}: question {q['name']} has no tests")
-    return {"name": path.stem, "title": title, "chapters": list(meta["chapters"]), "minutes": int(meta["minutes"]),
+    chapters, titles = [], {}
+    for entry in meta["chapters"]:  # a page of the book, or "Title <page>" for one not written yet
+        m = re.fullmatch(r"\s*(?:(.*?)\s*<([^<>]+)>|([^<>]+?))\s*", str(entry))
+        page = (m.group(2) or m.group(3)).strip()
+        chapters.append(page)
+        titles[page] = (m.group(1) or "").strip()
+    return {"name": path.stem, "title": title, "chapters": chapters, "chapter_titles": titles,
+            "minutes": int(meta["minutes"]),
             "questions": questions, "points": sum(t["points"] for q in questions for t in q["tests"])}
 
 

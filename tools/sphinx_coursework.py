@@ -11,9 +11,9 @@ built, never typed:
 * ``{readtime}`book/lemma1``` -- reading time: the words of the chapter outside its code cells
   at :data:`WORDS_PER_MINUTE`, rounded up to 5 minutes;
 * ``{assignment-guide} NAME`` -- what ``assignments/NAME/NAME.md`` says about itself (chapters
-  needed, expected student time from its metadata) and what its autograder checks: a table of
-  its questions, with the points, and the public and hidden tests with the message each shows
-  when it fails (read by :func:`tools.assignments.read_assignment`). The folder is
+  needed, as paths or ``Title <path>``, and the expected student time, from its metadata) and
+  what its autograder checks: its questions, with the points, and the public and hidden tests
+  with the message each shows when it fails (read by :func:`tools.assignments.read_assignment`). The folder is
   ``coursework_assignments`` (config value, relative to the book's root), so the
   solution-free edition, built from a copy without the assignments, reads the original.
 """
@@ -97,7 +97,7 @@ class ResolveCoursework(SphinxPostTransform):
             if kind == "chapter":
                 if present:
                     ref = pending_xref("", refdomain="std", reftype="doc", reftarget="/" + target,
-                                       refdoc=env.docname, refexplicit=bool(title), refwarn=True)
+                                       refdoc=env.docname, refexplicit=False, refwarn=True)  # the page's own title
                     ref += nodes.inline("", title or target)
                     new = ref
                 else:
@@ -109,30 +109,6 @@ class ResolveCoursework(SphinxPostTransform):
                 path = Path(env.doc2path(target)) if present else None
                 new = nodes.Text("—" if path is None or not path.is_file() else f"{reading_minutes(path)} min")
             node.replace_self(new)
-
-
-def _table(header: list[str], rows: list[list], widths=None) -> nodes.table:
-    table = nodes.table(classes=["colwidths-auto"])
-    group = nodes.tgroup(cols=len(header))
-    table += group
-    for _ in header:
-        group += nodes.colspec(colwidth=1)
-    head = nodes.thead()
-    group += head
-    row = nodes.row()
-    for h in header:
-        row += nodes.entry("", nodes.paragraph(text=h))
-    head += row
-    body = nodes.tbody()
-    group += body
-    for cells in rows:
-        row = nodes.row()
-        for c in cells:
-            entry = nodes.entry()
-            entry += c if isinstance(c, nodes.Node) else nodes.paragraph(text=str(c))
-            row += entry
-        body += row
-    return table
 
 
 class AssignmentGuide(SphinxDirective):
@@ -158,7 +134,7 @@ class AssignmentGuide(SphinxDirective):
         for i, ch in enumerate(a["chapters"]):
             if i:
                 para += nodes.Text(", ")
-            para += coursework_ref("", "", kind="chapter", target=ch, title="")
+            para += coursework_ref("", "", kind="chapter", target=ch, title=a["chapter_titles"].get(ch, ""))
         para += nodes.Text(". ")
         para += nodes.strong(text="Expected student time: ")
         para += nodes.Text(f"{a['minutes']} minutes. ")
@@ -166,11 +142,23 @@ class AssignmentGuide(SphinxDirective):
         para += nodes.Text(f"{a['points']:g}, in {len(a['questions'])} questions "
                            f"({sum(len(q['tests']) for q in a['questions'])} tests, "
                            f"{sum(t['hidden'] for q in a['questions'] for t in q['tests'])} of them hidden).")
-        rows = []
+        questions = nodes.bullet_list()
         for q in a["questions"]:
+            item = nodes.list_item()
+            head = nodes.paragraph()
+            head += nodes.literal(text=q["name"])
+            head += nodes.Text(f", {sum(t['points'] for t in q['tests']):g} points")
+            item += head
+            tests = nodes.bullet_list()
             for t in q["tests"]:
-                rows.append([q["name"], f"{t['points']:g}", "hidden" if t["hidden"] else "public", t["checks"]])
-        return [para, _table(["question", "points", "test", "what it checks"], rows)]
+                entry = nodes.paragraph()
+                entry += nodes.emphasis(text=f"{'hidden' if t['hidden'] else 'public'} test, {t['points']:g} "
+                                             f"point{'s' if t['points'] != 1 else ''}")
+                entry += nodes.Text(f"; its message when it fails: {t['checks']}")
+                tests += nodes.list_item("", entry)
+            item += tests
+            questions += item
+        return [para, questions]
 
 
 def setup(app: Sphinx) -> dict:
