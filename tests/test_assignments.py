@@ -1,7 +1,8 @@
 """The graded assignments (issue 15): otter-grader builds them, their solutions get full marks, and
 neither an untouched student notebook nor a plausible wrong submission does.
 
-One session fixture builds every assignment of ``assignments/`` (``tools.assignments``: jupytext
+One session fixture (``graded``, in conftest.py: it starts when the tests are collected and
+runs beside the rest of the suite) builds every assignment of ``assignments/`` (``tools.assignments``: jupytext
 to .ipynb, ``otter assign``, then ``otter run`` locally) and grades three notebooks of each: the
 solution notebook, the blank student notebook, and the plausible wrong submission of
 ``tests/fixtures/assignments/NAME_wrong.md`` (its answer cells filled into the student notebook,
@@ -23,14 +24,6 @@ from tools import assignments
 ROOT = Path(__file__).resolve().parents[1]
 FIXTURES = ROOT / "tests" / "fixtures" / "assignments"
 NAMES = assignments.names()
-OUT = BOOK_OUT / "_build" / "assignments"
-
-
-@pytest.fixture(scope="session")
-def graded():
-    """Every assignment built and graded once per session (solution, blank, wrong)."""
-    results = assignments.run_all(OUT, extra=lambda n: {"wrong": FIXTURES / f"{n}_wrong.md"})
-    return {r["name"]: r for r in results}
 
 
 def test_at_least_four_assignments_one_per_part_of_the_paper():
