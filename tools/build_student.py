@@ -32,7 +32,7 @@ from pathlib import Path
 import yaml
 
 from tools.build_book import CACHE, ROOT, build, inputs_digest, is_quick, read_stamp
-from tools.solutions import parse, strip_solutions
+from tools.solutions import FormatError, parse, strip_solutions
 from tools.toc import notebook_pages
 
 COPIED = ("_config.yml", "_toc.yml", "book", "tools")
@@ -186,7 +186,11 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--no-reuse", action="store_true", help="execute the chapters even if a fresh normal build exists")
     args = ap.parse_args(argv)
-    r = build_student(reuse=not args.no_reuse)
+    try:
+        r = build_student(reuse=not args.no_reuse)
+    except FormatError as exc:  # a solution the stripper cannot read would leak: stop, naming it
+        print(f"student edition not built: {exc}", file=sys.stderr)
+        return 2
     total = sum(r["removed"].values())
     print(f"student edition: {total} solutions removed from {sum(1 for v in r['removed'].values() if v)} pages; "
           f"{len(r['reused'])} chapters reused from the normal build, {r['executed']} executed; "
