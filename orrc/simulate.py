@@ -58,7 +58,8 @@ class Trajectory:
     value_valid : (T,) bool, True where ``values`` holds the V_M of a successful solve (None with
         ``values``); the checks of :mod:`orrc.checks` refuse a trajectory where it is not all True
     success : (T,) False at the steps whose solve failed (True where the controller solved
-        nothing, e.g. the clairvoyant's steps after t = 0); status : list of solver statuses
+        nothing, e.g. the clairvoyant's steps after t = 0); status : list of solver statuses (a
+        step rescued by a cold retry reads "cold start: Solve_Succeeded (after warm start: ...)")
     fallback : list, per step, None or what was applied instead of the failed solve's optimum
         (e.g. "the previous successful plan, shifted", "the solver's last iterate")
     iterations, solve_times : (T,) solver iterations and seconds per step

@@ -129,6 +129,7 @@ def test_a_cold_retry_rescues_a_bad_warm_start_and_is_no_failure(pendulum):
     traj, solver_warnings, _ = _run(ex.system, rhc, ex.x0, w, 12)
     assert traj.n_failures == 0 and not solver_warnings
     assert [g is None for g in spy.guesses[4]] == [False, True]  # warm start tried, then the cold retry
+    assert traj.status[4] == "cold start: Solve_Succeeded (after warm start: forced failure)"
     assert traj.value_valid.all()
 
 

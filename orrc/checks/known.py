@@ -98,7 +98,7 @@ def _trajectory(traj, M):
         bad = np.flatnonzero(~traj.success) if traj.n_failures else np.flatnonzero(~traj.value_valid)
         raise OrrcValueError(
             f"traj has {bad.size} steps without a valid V_M (t = {bad[:8].tolist()}{'...' if bad.size > 8 else ''}: "
-            f"{'the solve failed there' if traj.n_failures else 'the value overflowed'}; see Trajectory.success "
+            f"{'the solve failed there' if traj.n_failures else 'the value is not finite'}; see Trajectory.success "
             "and value_valid): the lemmas are about Algorithm 1's optimal values, which these steps do not have. "
             "Re-run with solver options that converge (e.g. a larger ipopt.max_iter)")
     M = as_int("M", M, minimum=2)

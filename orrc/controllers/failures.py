@@ -86,8 +86,10 @@ class FailureLadder:
     def attempt(rungs: Sequence[Rung]) -> Plan:
         """Try the rungs in order; the first successful plan, else the last failed one.
 
-        The plan's ``extra["attempts"]`` lists (rung, status) when more than one rung was tried,
-        and a failed plan's ``status`` joins the statuses of every rung.
+        When more than one rung was tried, the plan's ``extra["attempts"]`` lists (rung, status),
+        its iterations and solve time are the sums over the rungs, and its ``status`` names them:
+        "cold start: Solve_Succeeded (after warm start: ...)" for a step rescued by a retry,
+        "warm start: ...; cold start: ..." for a failed one.
         """
         tried = []
         plan = None
@@ -98,11 +100,12 @@ class FailureLadder:
             iterations, seconds = iterations + plan.iterations, seconds + plan.solve_time
             if plan.success:
                 break
-        if len(tried) > 1:  # the step's effort is that of every rung tried
+        if len(tried) > 1:  # the step's effort is that of every rung tried, and its status says so
             plan.extra["attempts"] = tried
             plan.iterations, plan.solve_time = iterations, seconds
-        if not plan.success and len(tried) > 1:
-            plan.status = "; ".join(f"{label}: {status}" for label, status in tried)
+            earlier = "; ".join(f"{label}: {status}" for label, status in tried[:-1])
+            plan.status = (f"{tried[-1][0]}: {plan.status} (after {earlier})" if plan.success
+                           else f"{earlier}; {tried[-1][0]}: {plan.status}")
         return plan
 
     # -- stateful: one step of a run -------------------------------------------------------------
