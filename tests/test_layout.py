@@ -13,18 +13,19 @@ PUBLIC = {
                     "Gamma_V_gamma", "lemma2_coefficients", "lemma2_bound", "gamma_c", "theorem1_constant",
                     "gamma_tilde", "gamma_c_remark"],
     "orrc.certify": ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
-                     "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit"],
+                     "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit",
+                     "Regret", "worst_case_regret"],
     "orrc.solvers.game": ["GameSolution", "finite_horizon_game", "stationary_game", "optimal_game_level",
                           "check_stabilisable"],
     "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput",
-                         "HInfinity"],
+                         "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal"],
     "orrc.checks": ["Margins", "Lemma1Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
                     "theorem1_margin"],
 }
 
 SECTIONS = {
     "orrc.theory": ["known"],
-    "orrc.certify": ["constants", "sampled", "attenuation"],
+    "orrc.certify": ["constants", "sampled", "attenuation", "regret"],
     "orrc.checks": ["known"],
 }
 
