@@ -21,6 +21,10 @@ PUBLIC = {
                          "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal"],
     "orrc.checks": ["Margins", "Lemma1Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
                     "theorem1_margin"],
+    "orrc": ["OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning"],
+    "orrc.solvers": ["Plan", "SolverWarning", "SolverError"],
+    "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput",
+                         "FailureLadder"],
 }
 
 SECTIONS = {

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import PY_CALL_OPS, OrrcValueError, as_float, as_int, check_finite_result, check_size
 from ..controllers.base import Controller
 from ..controllers.baselines import LQR, ZeroInput
 from ..controllers.gpc import GPC, DisturbanceAction
@@ -197,10 +197,21 @@ def worst_case_attenuation(system: LinearSystem, controller: Controller, T: int,
     loop = _linear_loop(system, controller, cost)
     T = as_int("T", T, minimum=1)
     n, m = system.n, system.m
+    n_rows, n_cols = T * (n + m), T * n
+    # G and its row blocks (2 copies), dense SVD (small G) or ~100 ARPACK products (large G), the loop
+    check_size(f"worst_case_attenuation over T={T} steps (n={n}, m={m}): a {n_rows} x {n_cols} matrix G",
+               nbytes=8.0 * n_rows * n_cols * (2 if min(n_rows, n_cols) > 200 else 4),
+               ops=(200.0 * n_rows * n_cols if min(n_rows, n_cols) > 200 else 10.0 * n_rows * n_cols ** 2)
+               + T * ((loop.Mw + loop.Hp + 6) * PY_CALL_OPS + 6.0 * n * (n + m) * n_cols),
+               hint="lower T (the level converges in T: worst_case_attenuation_limit gives T → ∞ directly)")
     Qh, Rh = _sqrt_psd(loop.Q), _sqrt_psd(loop.R)
     X, U = _operators(system, loop, T)
     G = np.vstack([np.vstack([Qh @ X[t * n:(t + 1) * n], Rh @ U[t * m:(t + 1) * m]]) for t in range(T)])
+    if not np.all(np.isfinite(G)):
+        raise OrrcValueError(f"worst_case_attenuation over T={T}: the closed-loop response overflows (the loop is "
+                             "unstable and T too long for floating point, or the weights too large); lower T")
     gamma, v = _top_singular(G)
+    check_finite_result("the worst-case attenuation level", gamma, f"T={T}", "rescale Q and R")
     w = v.reshape(T, n)
     j = int(np.argmax(np.abs(w.ravel())))
     if w.ravel()[j] < 0:
@@ -299,6 +310,9 @@ def worst_case_attenuation_limit(system: LinearSystem, controller: Controller, c
     if start not in ("stationary", "cold"):
         raise OrrcValueError(f"start must be 'stationary' or 'cold'; got {start!r}")
     tol = as_float("tol", tol, minimum=0.0, strict_min=True)
+    k = system.n * max(loop.Mw, loop.Hp + 1, 1)
+    check_size(f"worst_case_attenuation_limit for a closed loop of {k} states (n={system.n}, preview M={loop.Mw})",
+               nbytes=8.0 * 40 * k * k, ops=400.0 * k ** 3, hint="lower the controller's horizon M")
     Ad, Bd, Cd, Dd = _closed_loop_ss(system, loop)
     sys_d = control.ss(Ad, Bd, Cd, Dd, dt=True)
     rho = float(np.max(np.abs(np.linalg.eigvals(Ad))))

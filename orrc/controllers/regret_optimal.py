@@ -34,6 +34,11 @@ MAX_LMI_DIM = 64  # T (m + n): the size of the SDP's matrix inequality (a few se
 
 
 def _check_sdp_size(T: int, n: int, m: int) -> None:
+    """The SDP's own limit (its time is set by the size of the matrix inequality, measured with Clarabel
+    here: about 0.5 s at size 40, 3 s at 60, 15 s at 80, 90 s at 120), then the package's memory and
+    operation limits for the condensed operators (orrc._validate.check_size)."""
+    from .._validate import check_size
+
     dim = T * (m + n)
     if dim > MAX_LMI_DIM:
         free = T * (T - 1) // 2 * m * n
@@ -42,6 +47,8 @@ def _check_sdp_size(T: int, n: int, m: int) -> None:
             f"T(m + n) = {dim} (limit {MAX_LMI_DIM}) with {free} free entries of Φ and "
             f"{dim * (dim + 1) // 2} entries in the semidefinite cone; use T <= {MAX_LMI_DIM // (m + n)} "
             f"for n = {n}, m = {m}")
+    check_size(f"RegretOptimal's condensed operators over T={T} steps (n={n}, m={m})",
+               nbytes=8.0 * 8 * (T * max(n, m)) ** 2, ops=20.0 * (T * max(n, m)) ** 3, hint="lower T")
 
 
 class RegretOptimal(Controller):
