@@ -6,10 +6,11 @@ import functools
 import numpy as np
 
 from .._validate import OrrcValueError, as_array, as_int
-from ..costs import QuadraticCost, StageCost
+from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from ..solvers import lq
 from ..solvers.nlp import ShootingNLP
+from ..solvers.qp import L1QP
 from ..solvers.plan import Plan
 from .base import Controller, Decision, Observation
 
@@ -36,7 +37,8 @@ class PreviewRHC(Controller):
 
     Solvers: a :class:`~orrc.LinearSystem` with a :class:`~orrc.QuadraticCost` and
     no bounds is solved exactly by the Riccati recursion with disturbance
-    feed-forward (``orrc.solvers.lq``); everything else by CasADi + IPOPT
+    feed-forward (``orrc.solvers.lq``); a LinearSystem with an :class:`~orrc.L1Cost` exactly as
+    one quadratic program (``orrc.solvers.qp``, input bounds allowed); everything else by CasADi + IPOPT
     (``orrc.solvers.nlp``), built once and warm-started from the shifted previous plan.
 
     Parameters
@@ -47,8 +49,11 @@ class PreviewRHC(Controller):
     terminal_cost : extension beyond the paper -- a (n, n) PSD matrix Pf (cost x̃ᵀPf x̃
         on x̃_{t+M}) or a callable in CasADi operations. The paper has none.
     state_bounds : extension beyond the paper -- (lo, hi) box on x̃_{t+1..t+M} (CasADi path).
-    solver : "auto" (default), "lq" or "nlp".
+    solver : "auto" (default), "lq", "qp" or "nlp".
     solver_options : extra options for ``casadi.nlpsol`` (e.g. {"ipopt.max_iter": 100}).
+    theta : for a :class:`~orrc.ParametricSystem` model f(·; θ), the parameter value to plan
+        with (Algorithm 2 plans with its estimate θ̂). It is a parameter of the CasADi NLP:
+        :meth:`set_theta` changes it without rebuilding the solver.
 
     On an NLP failure the step reports ``success=False`` with the solver status,
     warns (:class:`~orrc.SolverWarning`), and applies the first input of the shifted
@@ -58,7 +63,8 @@ class PreviewRHC(Controller):
     name = "preview RHC"
 
     def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
-                 terminal_cost=None, state_bounds=None, solver: str = "auto", solver_options=None):
+                 terminal_cost=None, state_bounds=None, solver: str = "auto", solver_options=None,
+                 theta=None):
         if not isinstance(system, System):
             raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
         if not isinstance(cost, StageCost):
@@ -69,8 +75,8 @@ class PreviewRHC(Controller):
         self.preview_w = self.preview_c = self.M
         self.input_bounds = _bounds("input_bounds", input_bounds, system.m)
         self.state_bounds = _bounds("state_bounds", state_bounds, system.n)
-        if solver not in ("auto", "lq", "nlp"):
-            raise OrrcValueError(f"solver must be 'auto', 'lq' or 'nlp'; got {solver!r}")
+        if solver not in ("auto", "lq", "nlp", "qp"):
+            raise OrrcValueError(f"solver must be 'auto', 'lq', 'qp' or 'nlp'; got {solver!r}")
         if solver_options is not None and not isinstance(solver_options, dict):
             raise OrrcValueError(f"solver_options must be a dict; got {type(solver_options).__name__}")
         Pf, term_fn = None, None
@@ -90,9 +96,26 @@ class PreviewRHC(Controller):
                 "solver='lq' needs a LinearSystem, a QuadraticCost, no input/state bounds and a "
                 "quadratic (matrix) terminal cost or none; use solver='nlp' or 'auto'")
         self.solver = "lq" if (solver == "lq" or (solver == "auto" and lq_ok)) else "nlp"
+        # an ℓ1 state cost on a linear system: one exact QP per step (orrc.solvers.qp)
+        qp_ok = (isinstance(system, LinearSystem) and isinstance(cost, L1Cost) and self.state_bounds is None
+                 and terminal_cost is None)
+        if solver == "qp" and not qp_ok:
+            raise OrrcValueError("solver='qp' needs a LinearSystem, an L1Cost, no state bounds and no terminal cost")
+        if solver in ("auto", "qp") and qp_ok:
+            self.solver = "qp"
+        self.theta = None
+        if getattr(system, "n_params", 0):  # a ParametricSystem: θ is a parameter of the NLP
+            if theta is None:
+                raise OrrcValueError(f"theta is required for a ParametricSystem model ({system.name}): the "
+                                     f"value of its {system.n_params} parameters to plan with")
+            self.theta = system.check_theta(theta)
+        elif theta is not None:
+            raise OrrcValueError(f"theta is only for a ParametricSystem model; {system.name} has no parameters")
         self._Pf = Pf
         if self.solver == "lq":
             self._nlp = None
+        elif self.solver == "qp":
+            self._nlp = L1QP(system.A, system.B, cost.q, cost.R, self.M, self.input_bounds)
         else:
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
                                     term_fn, solver_options=solver_options)
@@ -153,16 +176,29 @@ class PreviewRHC(Controller):
                 Rs = np.array([r for _, r in pairs])
             U, X, value = lq.solve(self.system.A, self.system.B, Qs, Rs, x, W, self._Pf)
             return Plan(inputs=U, states=X, value=value)
+        if self.solver == "qp":
+            plan = self._nlp.solve(x, W)
+            if not plan.success and warm_start is not None:
+                plan.inputs = np.vstack([warm_start.inputs[1:], warm_start.inputs[-1:]])
+                plan.fallback = "shifted previous plan"
+            return plan
         guess_U = guess_X = None
         if warm_start is not None:
             guess_U = np.vstack([warm_start.inputs[1:], warm_start.inputs[-1:]])
             guess_X = np.vstack([x, warm_start.states[2:], warm_start.states[-1:]])
-        plan = self._nlp.solve(x, W, P, guess_U, guess_X)
+        plan = self._nlp.solve(x, W, P, guess_U, guess_X, theta=self.theta)
         if not plan.success and warm_start is not None:
             plan.inputs = guess_U
             plan.states = guess_X
             plan.fallback = "shifted previous plan"
         return plan
+
+    def set_theta(self, theta) -> None:
+        """Plan with the model parameters θ from now on (a ParametricSystem model; no solver rebuild)."""
+        if self.theta is None:
+            raise OrrcValueError(f"set_theta needs a ParametricSystem model; {self.system.name} has no parameters")
+        self.theta = self.system.check_theta(theta)
+        self._prev = None
 
     # -- the controller -----------------------------------------------------------
     def reset(self) -> None:
