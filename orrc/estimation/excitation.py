@@ -52,14 +52,14 @@ def prbs(N: int, m: int, amplitude: float = 1.0, hold: int = 1, seed=None) -> np
     initial register state comes from ``seed`` (never all zeros) and input i starts at a random
     shift of the sequence. Each bit is held for ``hold`` steps.
     """
-    from scipy.signal import max_len_seq
-
     N, m, amplitude = _dims(N, m, amplitude)
     hold = as_int("hold", hold, minimum=1)
     bits_needed = math.ceil(N / hold)
     nbits = max(5, math.ceil(math.log2(bits_needed + 1)))
     if nbits > 32:
         raise OrrcValueError(f"N={N} is too long for a PRBS of at most 32 register bits")
+    from scipy.signal import max_len_seq
+
     rng = _rng(seed)
     state = rng.integers(0, 2, nbits)
     if not state.any():
