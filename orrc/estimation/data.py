@@ -22,7 +22,7 @@ import numpy as np
 
 from .._validate import OrrcValueError, as_array
 
-__all__ = ["Transitions", "transitions", "Estimate", "RankWarning", "full_rank_solve"]
+__all__ = ["Transitions", "transitions", "Estimate", "RankWarning"]
 
 
 class RankWarning(UserWarning):

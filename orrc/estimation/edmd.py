@@ -31,8 +31,7 @@ from .._validate import OrrcValueError, as_array, as_float, as_int
 from ..systems import LinearSystem, NonlinearSystem, System
 from .data import Estimate, full_rank_solve, transitions
 
-__all__ = ["Dictionary", "polynomial_dictionary", "rbf_dictionary", "EDMD", "EDMDModel", "edmd",
-           "prediction_error", "MAX_FEATURES"]
+__all__ = ["Dictionary", "polynomial_dictionary", "rbf_dictionary", "EDMD", "EDMDModel", "edmd", "prediction_error"]
 
 #: The largest dictionary accepted (features K); the fit costs O(N K²) and the lifted LQ law O(M³K³).
 MAX_FEATURES = 2000

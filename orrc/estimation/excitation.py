@@ -20,7 +20,7 @@ import numpy as np
 
 from .._validate import OrrcValueError, as_float, as_int
 
-__all__ = ["KINDS", "gaussian", "prbs", "multisine", "make"]
+__all__ = ["gaussian", "prbs", "multisine"]
 
 KINDS = ("gaussian", "prbs", "multisine")
 

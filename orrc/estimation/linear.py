@@ -16,7 +16,7 @@ from .._validate import OrrcValueError, as_array
 from ..systems import LinearSystem
 from .data import Estimate, full_rank_solve, transitions
 
-__all__ = ["LinearEstimate", "least_squares_linear", "true_linear_theta"]
+__all__ = ["LinearEstimate", "least_squares_linear"]
 
 
 @dataclass
