@@ -3,7 +3,7 @@ from .base import Controller, Decision, Observation
 from .baselines import LQR, Clairvoyant, ZeroInput
 from .preview import PreviewRHC
 from .lifted import LiftedRHC
-from .estimate import EstimateThenControl
+from .estimate import EstimateThenControl, Excitation
 
 __all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "LiftedRHC",
-           "EstimateThenControl"]
+           "EstimateThenControl", "Excitation"]

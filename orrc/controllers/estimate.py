@@ -13,6 +13,41 @@ from .preview import PreviewRHC, _bounds
 PHASES = ("estimate", "control")
 
 
+class Excitation(Controller):
+    """The estimation phase of Algorithm 2 on its own: u_t = e_t - K₀ x_t, clipped to U.
+
+    ``excitation`` (T, m): the exciting inputs e_t (e.g. :func:`orrc.estimation.prbs`); ``gain`` K₀ (m, n)
+    an optional prior stabilising feedback; ``input_bounds`` (lo, hi). No preview: it needs none. Run it in
+    :func:`orrc.simulate` for at most T steps to collect the data of an estimation phase.
+    """
+
+    name = "excitation"
+
+    def __init__(self, excitation, gain=None, input_bounds=None, n: int | None = None, cost=None):
+        excitation = as_array("excitation", excitation)
+        if excitation.ndim == 1:
+            excitation = excitation[:, None]
+        if excitation.ndim != 2 or excitation.shape[0] < 1:
+            raise OrrcValueError(f"excitation must have shape (T, m); got shape {excitation.shape}")
+        self.excitation = excitation
+        self.m = excitation.shape[1]
+        self.gain = None if gain is None else as_array("gain", gain, (self.m, n) if n is not None else None)
+        if self.gain is not None and self.gain.ndim != 2:
+            raise OrrcValueError(f"gain must have shape (m, n); got shape {self.gain.shape}")
+        self.input_bounds = _bounds("input_bounds", input_bounds, self.m)
+        self.cost = cost
+
+    def control(self, obs: Observation) -> Decision:
+        if obs.t >= len(self.excitation):
+            raise OrrcValueError(f"the excitation has {len(self.excitation)} steps; step t = {obs.t} has none")
+        u = self.excitation[obs.t].copy()
+        if self.gain is not None:
+            u -= self.gain @ obs.x
+        if self.input_bounds is not None:
+            u = np.clip(u, *self.input_bounds)
+        return Decision(u=u)
+
+
 class EstimateThenControl(Controller):
     """Algorithm 2 of the paper: N steps of excitation, the estimate θ̂ from the data the controller
     observed, then preview RHC (Algorithm 1) on the estimated model f(·; θ̂).
@@ -112,6 +147,7 @@ class EstimateThenControl(Controller):
         self.excitation = excitation[:self.N]
         self.exploration_gain = None if exploration_gain is None else as_array("exploration_gain", exploration_gain,
                                                                                (m, n))
+        self._explorer = Excitation(self.excitation, self.exploration_gain, input_bounds, n=n)
         self.theta_true = None
         if theta_true is not None:
             if self.edmd:
@@ -140,14 +176,6 @@ class EstimateThenControl(Controller):
         self._ctrl = None
         if self._rhc is not None:
             self._rhc.reset()
-
-    def _explore(self, obs: Observation) -> np.ndarray:
-        u = self.excitation[obs.t].copy()
-        if self.exploration_gain is not None:
-            u -= self.exploration_gain @ obs.x
-        if self.input_bounds is not None:
-            u = np.clip(u, *self.input_bounds)
-        return u
 
     def _fit(self) -> None:
         from ..estimation import Estimate, least_squares_linear, least_squares_parametric
@@ -186,7 +214,7 @@ class EstimateThenControl(Controller):
         if obs.t > 0 and len(self._W) < self.N:
             self._W.append(np.array(obs.w_past, dtype=float))
         if obs.t < self.N:
-            u = self._explore(obs)
+            u = self._explorer.control(obs).u
             self._U.append(u)
             self._phase.append(0)
             self._values.append(np.nan)
