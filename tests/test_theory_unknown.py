@@ -117,3 +117,18 @@ def test_sampled_lipschitz_of_a_nonlinear_model_uses_one_nlp():
                                   input_bounds=(-5, 5), seed=0)
     assert S.estimate and S.alpha_V > 0 and S.alpha_kappa > 0 and S.info["failures"] == 0
     assert "estimate" in S.method and "not a certificate" in S.method
+
+
+def test_theorem2_bound_for_many_horizons_at_once_is_the_bound_for_each():
+    M, lo, hi, gb = 4, 1.0, 1.1, 0.2
+    a = theory.min_decay_rate(M, lo, hi)
+    gc = theory.gamma_c(M, a, lo, hi, gb)
+    w = np.random.default_rng(2).uniform(-0.3, 0.3, (80 + M, 1))
+    args = (np.full(10, 0.3), w, 0.2, 0.05)
+    rest = (10, M, a, lo, hi, gb, gc, 1.0, 2.0, 1.0, 1.1)
+    Ts = np.arange(11, 81)
+    many = theory.theorem2_constant(*args, Ts, *rest)
+    for i in (0, 17, len(Ts) - 1):
+        one = theory.theorem2_constant(*args, int(Ts[i]), *rest)
+        assert many.total[i] == pytest.approx(one.total, rel=1e-12)
+        assert many.model_error[i] == pytest.approx(one.model_error, rel=1e-12)

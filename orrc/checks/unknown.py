@@ -111,14 +111,9 @@ def theorem2_margin(traj, M, a, alpha_lo, alpha_hi, gamma_bar, gamma, alpha_V, a
     """
     traj, M, N, err, _, e = _algorithm2(traj, M, theta_error)
     T = traj.T
-    s = theory.known._theorem1_setting(traj.sigma[N], T - N, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
-    gamma = s.gamma
-    est = float(traj.costs[:N].sum() - gamma * e[:N].sum())
     Ts = np.arange(N + 1, T + 1)
-    known_part = theory.known._theorem1_constants(s, e[N:], Ts - N)
-    c = th_unknown.lemma5_c(M, s.a, s.alpha_lo, s.alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde)
-    Hs = np.arange(T - N)
-    Mt = np.cumsum(c * (1.0 - s.a ** Hs) / (1.0 - s.a) + s.a ** Hs * float(alpha_V))
-    C = est + known_part + Mt * err
-    R = attenuation_regret(traj, gamma, cumulative=True)[N:]
+    C = th_unknown.theorem2_constant(traj.costs[:N], traj.w_all, traj.sigma[N], err, Ts, N, M, a, alpha_lo,
+                                     alpha_hi, gamma_bar, gamma, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f,
+                                     eps_tilde).total
+    R = attenuation_regret(traj, float(gamma), cumulative=True)[N:]
     return Margins(Ts, C, R, C - R, "R^p_T(gamma) <= O(N) + O(1) + O((T - N + 1) g(N)) (Theorem 2, explicit)")

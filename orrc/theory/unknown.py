@@ -132,19 +132,19 @@ def lemma5_bound(sigma_t, w_window, theta_error, M, H, a, alpha_lo, alpha_hi, ga
 
 
 class Theorem2Bound(NamedTuple):
-    """The bound of Theorem 2 in its three parts (their sum is ``total``).
+    """The bound of Theorem 2 in its three parts (their sum is ``total``; arrays for several T).
 
     estimation : Σ_{t<N} (c_t - γ‖w_t‖²), the estimation phase (the O(N));
     known : Theorem 1's explicit constant for the control phase from x_N (the O(1));
     model_error : Σ_{H=0}^{T-N-1} M_θ(H) ‖θ̂ - θ‖ (the O((T - N + 1) g(N))).
     """
 
-    estimation: float
-    known: float
-    model_error: float
+    estimation: float | np.ndarray
+    known: float | np.ndarray
+    model_error: float | np.ndarray
 
     @property
-    def total(self) -> float:
+    def total(self):
         return self.estimation + self.known + self.model_error
 
 
@@ -161,24 +161,29 @@ def theorem2_constant(estimation_costs, w, sigma_N, theta_error, T, N, M, a, alp
       Σ_H M_θ(H) <= (T - N) c/(1 - a) + α_V/(1 - a): the O((T - N + 1) g(N)) of the theorem.
 
     ``estimation_costs`` (N,) c_0..c_{N-1}; ``w`` (L, n) all the disturbances w_0, w_1, ... with the
-    preview tail (L >= T + M - 2); T > N.
+    preview tail (L >= T + M - 2); ``T`` > N, an integer or a 1-D array of horizons (then every part is
+    an array, one entry per horizon: the bound for all T at once).
     """
-    T = as_int("T", T, minimum=2)
+    Ts = np.atleast_1d(np.asarray(T))
+    if Ts.ndim != 1 or Ts.size == 0 or not np.issubdtype(Ts.dtype, np.integer):
+        raise OrrcValueError(f"T must be an integer or a 1-D array of integers; got {T!r}")
     N = as_int("N", N, minimum=1)
-    if N >= T:
-        raise OrrcValueError(f"Theorem 2 needs a control phase: N < T; got N={N}, T={T}")
+    if Ts.min() <= N:
+        raise OrrcValueError(f"Theorem 2 needs a control phase: N < T; got N={N}, T={int(Ts.min())}")
+    T_max = int(Ts.max())
     ce = np.asarray(estimation_costs, dtype=float)
     if ce.shape != (N,) or not np.all(np.isfinite(ce)):
         raise OrrcValueError(f"estimation_costs must be N = {N} finite stage costs c_0..c_(N-1); got shape {ce.shape}")
     e = known._energies("w", w)
-    if len(e) < max(T + M - 2, N + M):
+    if len(e) < max(T_max + M - 2, N + M):
         raise OrrcValueError(f"w must hold the disturbances w_0..w_(T+M-3) (with the preview tail); got {len(e)} rows")
-    gamma = as_float("gamma", gamma, minimum=0.0)
-    est = float(ce.sum() - gamma * e[:N].sum())
-    w = np.asarray(w, dtype=float)
-    wc = w[N:] if w.ndim == 2 else w[N:, None]
-    kn = known.theorem1_constant(sigma_N, wc, T - N, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
-    c = lemma5_c(M, a, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde)
-    Hs = np.arange(T - N)
-    Mt = c * (1.0 - a ** Hs) / (1.0 - a) + a ** Hs * float(alpha_V)
-    return Theorem2Bound(est, float(kn), float(Mt.sum() * _nonneg("theta_error", theta_error)))
+    s = known._theorem1_setting(sigma_N, T_max - N, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
+    est = float(ce.sum() - s.gamma * e[:N].sum())
+    kn = known._theorem1_constants(s, e[N:], Ts - N)
+    c = lemma5_c(s.M, s.a, s.alpha_lo, s.alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde)
+    Hs = np.arange(T_max - N)
+    Mt = np.cumsum(c * (1.0 - s.a ** Hs) / (1.0 - s.a) + s.a ** Hs * float(alpha_V))[Ts - N - 1]
+    model = Mt * _nonneg("theta_error", theta_error)
+    if np.ndim(T) == 0:
+        return Theorem2Bound(est, float(kn[0]), float(model[0]))
+    return Theorem2Bound(np.full(Ts.size, est), kn, model)

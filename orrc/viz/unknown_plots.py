@@ -63,6 +63,15 @@ def _style(ax, xlabel: str | None = None, ylabel: str | None = None, title: str 
     ax.grid(True, which="major", alpha=0.3)
 
 
+def _decade(values, q: float) -> float:
+    """The power of ten at or below the q-quantile of the non-zero |values| (a symlog axis's linear range)."""
+    v = np.abs(np.asarray(values, dtype=float))
+    v = v[v > 0]
+    if not v.size:
+        return 1.0
+    return float(10.0 ** np.floor(np.log10(np.quantile(v, q))))
+
+
 def _dict(name: str, d) -> dict:
     if not isinstance(d, dict) or not d:
         raise OrrcValueError(f"{name} must be a non-empty dict label -> data; got "
@@ -101,7 +110,7 @@ def estimation_errors(Ns, errors: dict, floor: float = 1e-15, fit_from: float | 
             label = f"{label} (slope {slope:.2f})"
         ax.loglog(Ns, shown, "o-", color=_COLORS[i % 8], label=label, ms=4)
     ax.axhline(floor, color="0.6", lw=0.8, ls=":")
-    _style(ax, "N (exciting steps)", "‖θ̂ − θ‖", title)
+    _style(ax, "N (exciting steps)", r"$\Vert\hat\theta - \theta\Vert$", title)
     return fig
 
 
@@ -124,28 +133,32 @@ def _shade(ax, N: int) -> None:
     ax.axvspan(-0.5, N - 0.5, color="0.9", zorder=0)
 
 
-def phase_frame(traj, reference, state: int = 0, title: str | None = None, fast: bool = False) -> Figure:
-    """Algorithm 2 (``traj``, its ``info['N']`` shaded) against ``reference`` (Algorithm 1 on the true system,
-    same disturbances): top, the state coordinate ``state``; bottom, Σ_{s<=t} (c_s - c_s^ref)."""
+def phase_frame(traj, reference, state: int = 0, title: str | None = None, fast: bool = False,
+                label: str = "Algorithm 2") -> Figure:
+    """A closed loop (``traj``) against ``reference`` (Algorithm 1 on the true system, same disturbances):
+    top, the state coordinate ``state``; bottom, Σ_{s<=t} (c_s - c_s^ref). The estimation phase of a
+    trajectory of Algorithm 2 (its ``info['N']`` steps) is shaded."""
     from ..simulate import Trajectory
 
     for name, t in (("traj", traj), ("reference", reference)):
         if not isinstance(t, Trajectory):
             raise OrrcValueError(f"{name} must be an orrc Trajectory; got {type(t).__name__}")
-    if "N" not in traj.info:
-        raise OrrcValueError("traj must be a trajectory of orrc.EstimateThenControl (its info holds N)")
     if reference.T != traj.T:
         raise OrrcValueError(f"reference must have the same T = {traj.T}; got {reference.T}")
-    N = int(traj.info["N"])
+    N = int(traj.info.get("N", 0))
     fig, (ax1, ax2) = _fig(2, 5.6, fast, sharex=True)
     t = np.arange(traj.T + 1)
-    for ax in (ax1, ax2):
-        _shade(ax, N)
+    if N > 0:
+        for ax in (ax1, ax2):
+            _shade(ax, N)
     ax1.plot(t, reference.x[:, state], color="black", lw=1.2, ls="--", label="Algorithm 1, θ known")
-    ax1.plot(t, traj.x[:, state], color="tab:blue", lw=1.4, label="Algorithm 2")
+    ax1.plot(t, traj.x[:, state], color="tab:blue", lw=1.4, label=label)
+    lo, hi = ax1.get_ylim()
+    ax1.set_ylim(lo, hi + 0.55 * (hi - lo))          # room for the legend above the curves
     _style(ax1, None, f"state $x_{{{state + 1}}}$", title, loc="upper right")
     excess = np.cumsum(traj.costs - reference.costs)
-    ax2.plot(np.arange(traj.T), excess, color="tab:red", lw=1.5, label=f"excess cost (shaded: N = {N})")
+    ax2.plot(np.arange(traj.T), excess, color="tab:red", lw=1.5,
+             label="excess cost" + (f" (shaded: N = {N})" if N > 0 else ""))
     _style(ax2, "t", r"$\sum_{s \leq t}\,(c_s - c_s^{\rm known})$", loc="lower right")
     return fig
 
@@ -158,12 +171,13 @@ def lipschitz_quotients(dtheta, dV, dkappa, alpha_V: float, alpha_kappa: float, 
     dk = as_array("dkappa", dkappa, (d.size,))
     fig, axes = _fig(2, 6.0)
     line = np.geomspace(d.min(), d.max(), 50)
-    for ax, y, a, name in ((axes[0], dV, alpha_V, "α_V"), (axes[1], dk, alpha_kappa, "α_κ")):
+    for ax, y, a, name in ((axes[0], dV, alpha_V, r"\alpha_V"), (axes[1], dk, alpha_kappa, r"\alpha_\kappa")):
         ok = y > 0
         ax.loglog(d[ok], y[ok], "o", ms=3, color="tab:blue", alpha=0.6, label="samples")
-        ax.loglog(line, a * line, color="tab:red", label=f"{name} ‖θ̂ − θ‖, {name} = {a:.3g}")
-    _style(axes[0], None, "|V(θ̂) − V(θ)|", title, loc="lower right")
-    _style(axes[1], "‖θ̂ − θ‖", "‖κ(θ̂) − κ(θ)‖", loc="lower right")
+        ax.loglog(line, a * line, color="tab:red",
+                  label=rf"${name}\,\Vert\hat\theta-\theta\Vert$, ${name} = {a:.3g}$")
+    _style(axes[0], None, "|V(θ̂) − V(θ)|", title, loc="upper left")
+    _style(axes[1], "‖θ̂ − θ‖", "‖κ(θ̂) − κ(θ)‖", loc="upper left")
     return fig
 
 
@@ -178,12 +192,13 @@ def lemma4_terms(margins, theta_part: float, title: str | None = None) -> Figure
     fig, (ax,) = _fig(1, 3.8)
     ax.plot(margins.t, margins.bound, color="tab:red", lw=1.5, label="Lemma 4 bound")
     ax.plot(margins.t, margins.bound - theta_part, color="tab:orange", lw=1.2, ls="--",
-            label="without Γ^θ_V ‖θ̂ − θ‖")
-    ax.plot(margins.t, margins.actual, color="tab:blue", lw=1.0, label="V(x_{t+1}; θ̂) − V(x_t; θ̂)")
-    v = np.abs(np.concatenate([margins.bound, margins.actual]))
-    v = v[v > 0]
-    ax.set_yscale("symlog", linthresh=max(float(np.quantile(v, 0.1)), 1e-9) if v.size else 1.0, linscale=0.5)
-    _style(ax, "t", "increment", title, loc="lower right")
+            label=r"without $\Gamma^\theta_V\,\Vert\hat\theta-\theta\Vert$")
+    ax.plot(margins.t, margins.actual, color="tab:blue", lw=1.0,
+            label=r"$V(x_{t+1};\hat\theta) - V(x_t;\hat\theta)$")
+    ax.set_yscale("symlog", linthresh=_decade(np.concatenate([margins.bound, margins.actual]), 0.25), linscale=1.5)
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi * 30)                           # room for the legend
+    _style(ax, "t", "increment", title, loc="upper right")
     return fig
 
 
@@ -198,7 +213,7 @@ def loss_vs_error(errors, losses: dict, title: str | None = None) -> Figure:
         ok = y > 0
         slope = np.polyfit(np.log(e[ok]), np.log(y[ok]), 1)[0] if ok.sum() >= 2 else float("nan")
         ax.loglog(e[ok], y[ok], "o-", ms=4, color=_COLORS[i % 8], label=f"{label}: slope {slope:.2f}")
-    _style(ax, "‖θ̂ − θ‖", "excess cost per step", title, loc="upper left")
+    _style(ax, r"$\Vert\hat\theta - \theta\Vert$", "excess cost per step", title, loc="upper left")
     return fig
 
 
@@ -215,11 +230,9 @@ def theorem2_parts(Ts, parts: dict, actual, title: str | None = None) -> Figure:
         total = total + y
         ax.plot(Ts, y, color=_COLORS[i % 8], lw=1.2, ls="--", label=label)
     ax.plot(Ts, total, color="tab:red", lw=1.6, label="bound (sum)")
-    ax.plot(Ts, actual, color="black", lw=1.4, label="R^p_T(γ)")
-    v = np.abs(np.concatenate([total, actual]))
-    v = v[v > 0]
-    ax.set_yscale("symlog", linthresh=max(float(np.quantile(v, 0.05)), 1e-6) if v.size else 1.0, linscale=0.5)
-    _style(ax, "T", None, title, loc="center right")
+    ax.plot(Ts, actual, color="black", lw=1.4, label=r"$R^p_T(\gamma)$")
+    ax.set_yscale("symlog", linthresh=_decade(np.concatenate([total, actual]), 0.05), linscale=1.5)
+    _style(ax, "T", None, title, loc="lower left")
     return fig
 
 
@@ -250,9 +263,9 @@ def tradeoff_curves(tradeoff, Ts, title: str | None = None) -> Figure:
     for i, (T, b) in enumerate(zip(Ts, best)):
         c = _COLORS[i % 8]
         ax.loglog(tradeoff.Ns, tradeoff.excess(T), "o", ms=4, color=c)
-        ax.loglog(grid, tradeoff.fitted_excess(grid, T), color=c, lw=1.2, label=f"T = {T:.3g}")
+        ax.loglog(grid, tradeoff.fitted_excess(grid, T), color=c, lw=1.2, label=f"T = {T:,.0f}")
         ax.loglog([b], tradeoff.fitted_excess(np.array([b]), T), "*", ms=12, color=c, mec="black")
-    _style(ax, "N (exciting steps)", "Δ(N, T)", title, loc="upper left")
+    _style(ax, "N (exciting steps)", r"$\Delta(N, T)$", title, loc="upper left")
     return fig
 
 
