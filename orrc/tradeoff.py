@@ -33,9 +33,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validate import OrrcValueError, as_array, as_float, as_int
+from ._validate import OrrcValueError, as_array, as_float, as_int, check_size
 
 __all__ = ["Tradeoff", "exploration_tradeoff"]
+
+#: operations of one simulated closed-loop step of Algorithm 2 (about 0.1 ms: a small QP, or the LQ law)
+_STEP_OPS = 1e5
 
 
 @dataclass
@@ -158,9 +161,8 @@ def exploration_tradeoff(system, model, cost, M: int, Ns, seeds: int = 10, windo
     n, m = system.n, system.m
     x0 = np.zeros(n) if x0 is None else as_array("x0", x0, (n,))
     steps = seeds * (int(Ns.sum()) + Ns.size * window + int(Ns[-1]) + window)
-    if steps > 5_000_000:
-        raise OrrcValueError(f"exploration_tradeoff would simulate {steps} steps (seeds·Σ(N + window)), above the "
-                             "limit of 5,000,000; use fewer seeds, a shorter window or smaller N")
+    check_size(f"exploration_tradeoff with seeds={seeds}, window={window}, N up to {int(Ns[-1])}: {steps} simulated steps",
+               ops=steps * _STEP_OPS, hint="use fewer seeds, a shorter window or smaller N")
     k = Ns.size
     shape = (seeds, k)
     E, Ek, tr, loss, err = (np.zeros(shape) for _ in range(5))

@@ -21,6 +21,11 @@ PUBLIC = {
     "orrc.estimation": ["Estimate", "LinearEstimate", "EDMDModel", "RankWarning", "Transitions", "transitions",
                         "gaussian", "prbs", "multisine", "least_squares_linear", "least_squares_parametric",
                         "Dictionary", "polynomial_dictionary", "rbf_dictionary", "edmd", "EDMD", "prediction_error"],
+    "orrc": ["OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning",
+             "ParametricSystem", "LinearParametricSystem", "L1Cost", "EstimateThenControl", "LiftedRHC"],
+    "orrc.solvers": ["Plan", "SolverWarning", "SolverError"],
+    "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput",
+                         "FailureLadder", "LiftedRHC", "EstimateThenControl", "Excitation"],
 }
 
 SECTIONS = {

@@ -32,14 +32,14 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import OrrcValueError, as_array, as_float, as_int, check_size
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem
 
 __all__ = ["Lipschitz", "lq_lipschitz", "lq_value_matrices", "sampled_lipschitz"]
 
-#: The largest number of points of Θ at which the derivatives are evaluated (a grid grows as k^p).
-MAX_POINTS = 20_000
+#: operations of one M-step solve in sampled_lipschitz (about a millisecond: an IPOPT call or a small QP)
+_SOLVE_OPS = 1e6
 
 
 @dataclass
@@ -117,40 +117,52 @@ def _lq_functions(n: int, m: int, M: int, Q_bytes: bytes, R_bytes: bytes):
     return values, jac
 
 
+def _check_lq(system, cost) -> None:
+    if not isinstance(system, LinearSystem):
+        raise OrrcValueError(f"system must be an orrc LinearSystem; got {type(system).__name__}")
+    if not isinstance(cost, QuadraticCost):
+        raise OrrcValueError(f"cost must be an orrc QuadraticCost (use sampled_lipschitz otherwise); got "
+                             f"{type(cost).__name__}")
+    cost.check_dims(system.n, system.m)
+
+
+def _horizon(M) -> int:
+    M = as_int("M", M, minimum=1)
+    if M > 200:
+        raise OrrcValueError(f"M = {M} is above 200: the symbolic recursion (O(M³n³) terms) would be too large")
+    return M
+
+
 def lq_value_matrices(system: LinearSystem, cost: QuadraticCost, M: int, theta=None):
     """(H, G) of the M-step LQ problem at θ = vec([A B]) (default: the system's own), from the CasADi
     recursion that :func:`lq_lipschitz` differentiates: V_M = zᵀHz, κ_M = -Gz, z = [x; vec W]."""
+    _check_lq(system, cost)
+    M = _horizon(M)
     n, m = system.n, system.m
     values, _ = _lq_functions(n, m, M, np.ascontiguousarray(cost.Q, float).tobytes(),
                               np.ascontiguousarray(cost.R, float).tobytes())
-    theta = np.hstack([system.A, system.B]).ravel() if theta is None else np.asarray(theta, float)
+    theta = np.hstack([system.A, system.B]).ravel() if theta is None else as_array("theta", theta, (n * (n + m),))
     vH, vG = values(theta)
     K = n + M * n
     return np.asarray(vH).reshape(K, K, order="F"), np.asarray(vG).reshape(m, K, order="F")
 
 
-def _box_points(theta: np.ndarray, radius: float, points, seed) -> np.ndarray:
-    p = theta.size
+def _count(points, grid: int, p: int) -> int:
+    """The number of points of Θ: grid^p for points="grid", else points + 1 (θ itself)."""
     if isinstance(points, str):
         if points != "grid":
             raise OrrcValueError(f"points must be 'grid' or a number of random points; got {points!r}")
-        return None
-    count = as_int("points", points, minimum=1)
-    if count > MAX_POINTS:
-        raise OrrcValueError(f"points = {count} is above the limit of {MAX_POINTS} evaluations")
-    rng = np.random.default_rng(seed)
-    return np.vstack([theta, theta + radius * rng.uniform(-1.0, 1.0, (count, p))])
+        return grid ** p
+    return as_int("points", points, minimum=1) + 1
 
 
-def _grid(theta: np.ndarray, radius: float, k: int) -> np.ndarray:
+def _box_points(theta: np.ndarray, radius: float, points, grid: int, seed) -> np.ndarray:
     p = theta.size
-    total = k ** p
-    if total > MAX_POINTS:
-        raise OrrcValueError(
-            f"a grid of grid={k} points per coordinate of θ (p = {p}) has k^p = {total:.3g} points, above the limit "
-            f"of {MAX_POINTS}; lower grid, or pass points=<count> for random points of Θ")
-    axes = [np.linspace(-radius, radius, k) if k > 1 else np.zeros(1)] * p
-    return theta + np.array(list(itertools.product(*axes)))
+    if isinstance(points, str):
+        axes = [np.linspace(-radius, radius, grid) if grid > 1 else np.zeros(1)] * p
+        return theta + np.array(list(itertools.product(*axes)))
+    rng = np.random.default_rng(seed)
+    return np.vstack([theta, theta + radius * rng.uniform(-1.0, 1.0, (points, p))])
 
 
 def _cost_lipschitz(cost: StageCost, x_radius: float) -> tuple[float, str]:
@@ -170,37 +182,32 @@ def lq_lipschitz(system: LinearSystem, cost: QuadraticCost, M: int, radius: floa
     system, cost, M : the true problem (its θ is the centre of Θ).
     radius : Θ = {θ' : ‖θ' - θ‖_∞ <= radius} (θ and every estimate θ̂ must lie in it).
     rho : the region ‖[x; vec W]‖ <= rho of the claims.
-    points : "grid" (``grid`` points per coordinate: k^p points, refused above :data:`MAX_POINTS`) or a
-        number of random points of Θ (plus θ itself).
+    points : "grid" (``grid`` points per coordinate: k^p points; the size is estimated first and refused
+        above ``orrc.config``'s limits) or a number of random points of Θ (plus θ itself).
     x_radius : the state radius for α_c (default rho).
 
     α_V = ρ² max_points σ_max(∂vec H/∂θ), α_κ = ρ max_points σ_max(∂vec G/∂θ), α_f S = max_points
     max(‖A'‖₂, ‖B'‖₂) (‖A δx + B δu‖ <= max(‖A‖, ‖B‖)(‖δx‖ + ‖δu‖)), α_c = 2 λ_max(Q) x_radius.
     """
-    if not isinstance(system, LinearSystem):
-        raise OrrcValueError(f"system must be an orrc LinearSystem; got {type(system).__name__}")
-    if not isinstance(cost, QuadraticCost):
-        raise OrrcValueError(f"cost must be an orrc QuadraticCost (use sampled_lipschitz otherwise); got "
-                             f"{type(cost).__name__}")
-    cost.check_dims(system.n, system.m)
-    M = as_int("M", M, minimum=1)
-    if M > 200:
-        raise OrrcValueError(f"M = {M} is above 200: the symbolic recursion (O(M³n³) terms) would be too large")
+    _check_lq(system, cost)
+    M = _horizon(M)
     radius = as_float("radius", radius, minimum=0.0, strict_min=True)
     rho = as_float("rho", rho, minimum=0.0, strict_min=True)
     x_radius = rho if x_radius is None else as_float("x_radius", x_radius, minimum=0.0, strict_min=True)
     grid = as_int("grid", grid, minimum=1)
     n, m = system.n, system.m
     theta = np.hstack([system.A, system.B]).ravel()
-    pts = _box_points(theta, radius, points, seed)
-    how = f"maximum over random {len(pts) - 1} points of Θ and θ" if pts is not None else \
-        f"maximum over a grid of {grid}^{theta.size} points of Θ"
-    if pts is None:
-        pts = _grid(theta, radius, grid)
+    p, K = theta.size, n + M * n
+    count = _count(points, grid, p)
+    check_size(f"lq_lipschitz at {count:.3g} points of Θ ({'grid=' + str(grid) + ' per coordinate of θ, p = ' + str(p) if isinstance(points, str) else 'points=' + str(points)}), M={M}",
+               nbytes=count * (K * K + m * K) * p * 8.0 * 2, ops=count * p * (K * K * M * n + K ** 3),
+               hint="lower grid (the grid has grid^p points), or pass points=<count> for random points of Θ")
+    pts = _box_points(theta, radius, points, grid, seed)
+    how = (f"maximum over a grid of {grid}^{p} points of Θ" if isinstance(points, str)
+           else f"maximum over random {len(pts) - 1} points of Θ and θ")
     _, jac = _lq_functions(n, m, M, np.ascontiguousarray(cost.Q, float).tobytes(),
                            np.ascontiguousarray(cost.R, float).tobytes())
     JH_all, JG_all = jac.map(len(pts))(pts.T)
-    p = theta.size
     JH_all = np.asarray(JH_all).reshape(-1, len(pts), p, order="F")
     JG_all = np.asarray(JG_all).reshape(-1, len(pts), p, order="F")
     sH = np.array([np.linalg.norm(JH_all[:, i, :], 2) for i in range(len(pts))])
@@ -247,8 +254,8 @@ def sampled_lipschitz(model, cost: StageCost, M: int, theta, radius: float, n_sa
     theta = model.check_theta(theta)
     radius = as_float("radius", radius, minimum=0.0, strict_min=True)
     n_samples = as_int("n_samples", n_samples, minimum=1)
-    if n_samples > MAX_POINTS:
-        raise OrrcValueError(f"n_samples = {n_samples} is above the limit of {MAX_POINTS}")
+    check_size(f"sampled_lipschitz with n_samples={n_samples} (two M-step solves each, M={M})",
+               ops=2.0 * n_samples * _SOLVE_OPS * max(1, M // 10), hint="lower n_samples")
     x_radius = as_float("x_radius", x_radius, minimum=0.0, strict_min=True)
     w_radius = as_float("w_radius", w_radius, minimum=0.0)
     rng = np.random.default_rng(seed)

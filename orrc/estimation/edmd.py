@@ -27,21 +27,20 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int
+from .._validate import OrrcValueError, as_array, as_float, as_int, check_size
 from ..systems import LinearSystem, NonlinearSystem, System
 from .data import Estimate, full_rank_solve, transitions
 
 __all__ = ["Dictionary", "polynomial_dictionary", "rbf_dictionary", "EDMD", "EDMDModel", "edmd", "prediction_error"]
 
-#: The largest dictionary accepted (features K); the fit costs O(N K²) and the lifted LQ law O(M³K³).
-MAX_FEATURES = 2000
 
-
-def _check_features(K: int, what: str) -> None:
-    if K > MAX_FEATURES:
-        raise OrrcValueError(
-            f"{what} has K = {K} features, above the limit of {MAX_FEATURES}: the EDMD fit costs O(N K²) and "
-            f"control on the lifted model O(M³ K³); lower the degree or the number of centres")
+def _check_features(K: int, what: str, terms: int = 1) -> None:
+    """The size guard of a dictionary of K features (each of about ``terms`` CasADi operations): building it
+    and checking that it contains the state costs a (3K x K) probe matrix and its least squares, O(K³)."""
+    check_size(f"{what} (K = {K} features)", nbytes=3.0 * K * K * 8 + 400.0 * K * terms,
+               ops=3.0 * K ** 3 + 30.0 * K * K * terms,
+               hint="lower the degree or the number of centres (the EDMD fit then costs O(N K²) and control on the "
+                    "lifted model O(M³ K³))")
 
 
 class Dictionary:
@@ -64,8 +63,8 @@ class Dictionary:
         except Exception as exc:
             raise OrrcValueError(f"psi(x) must be written with CasADi operations; tracing it failed with: {exc}") from exc
         self.K = int(out.shape[0])
-        _check_features(self.K, f"the dictionary {name!r}")
         self.function = ca.Function("psi", [x], [out])
+        _check_features(self.K, f"the dictionary {name!r}", terms=max(1, self.function.n_nodes() // max(self.K, 1)))
         self.labels = [f"psi[{j}]" for j in range(self.K)] if labels is None else [str(s) for s in labels]
         if len(self.labels) != self.K:
             raise OrrcValueError(f"labels must name the K = {self.K} features; got {len(self.labels)}")
@@ -111,12 +110,12 @@ class Dictionary:
 def polynomial_dictionary(n: int, degree: int, include_constant: bool = False) -> Dictionary:
     """All monomials of x ∈ R^n of total degree 1..``degree`` (x first), and 1 if ``include_constant``.
 
-    K = C(n + degree, degree) - 1 (+1) features; refused above :data:`MAX_FEATURES`.
+    K = C(n + degree, degree) - 1 (+1) features; the size is estimated first and refused above ``orrc.config``'s limits.
     """
     n = as_int("n", n, minimum=1)
     degree = as_int("degree", degree, minimum=1)
     K = math.comb(n + degree, degree) - 1 + bool(include_constant)
-    _check_features(K, f"polynomial_dictionary(n={n}, degree={degree})")
+    _check_features(K, f"polynomial_dictionary(n={n}, degree={degree})", terms=degree)
     combos = [c for d in range(1, degree + 1) for c in itertools.combinations_with_replacement(range(n), d)]
 
     def label(c):
@@ -142,14 +141,14 @@ def polynomial_dictionary(n: int, degree: int, include_constant: bool = False) -
 def rbf_dictionary(centers, width: float, include_constant: bool = False) -> Dictionary:
     """x, then Gaussian radial basis functions exp(-‖x - c_j‖² / (2 width²)) for each centre c_j.
 
-    ``centers`` (k, n); ``width`` > 0. K = n + k (+1) features; refused above :data:`MAX_FEATURES`.
+    ``centers`` (k, n); ``width`` > 0. K = n + k (+1) features; the size is estimated first and refused above ``orrc.config``'s limits.
     """
     centers = as_array("centers", centers)
     if centers.ndim != 2 or centers.shape[0] < 1:
         raise OrrcValueError(f"centers must have shape (k, n) with k >= 1; got shape {centers.shape}")
     width = as_float("width", width, minimum=0.0, strict_min=True)
     k, n = centers.shape
-    _check_features(n + k + bool(include_constant), f"rbf_dictionary with {k} centres")
+    _check_features(n + k + bool(include_constant), f"rbf_dictionary with {k} centres", terms=3 * n)
 
     def psi(x):
         feats = [x]
@@ -246,10 +245,9 @@ def edmd(X, U, dictionary: Dictionary, W=None, ridge: float = 1e-8) -> EDMDModel
     D = transitions(X, U, W, n=dictionary.n)
     N, K, m, n = D.N, dictionary.K, D.u.shape[1], dictionary.n
     cols = K + m + (n if D.w is not None else 0)
-    nbytes = 8.0 * (N + cols) * cols * 3
-    if nbytes > 2 ** 31:
-        raise OrrcValueError(f"the EDMD regression with N = {N} transitions and {cols} columns needs about "
-                             f"{nbytes / 2 ** 30:.3g} GiB, above the limit of 2 GiB; use fewer data or features")
+    check_size(f"the EDMD regression with N = {N} transitions and K + m (+ n) = {cols} columns",
+               nbytes=8.0 * (N + cols) * cols * 3, ops=6.0 * (N + cols) * cols * cols,
+               hint="use fewer data or a smaller dictionary")
     Z0, Z1 = dictionary(D.x), dictionary(D.x_next)
     if not (np.all(np.isfinite(Z0)) and np.all(np.isfinite(Z1))):
         raise OrrcValueError("the dictionary is not finite on the data (overflow: scale the states or lower the degree)")

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import OrrcValueError, as_float, as_int, as_seed
 
 __all__ = ["gaussian", "prbs", "multisine"]
 
@@ -26,11 +26,7 @@ KINDS = ("gaussian", "prbs", "multisine")
 
 
 def _rng(seed):
-    if isinstance(seed, np.random.Generator):
-        return seed
-    if isinstance(seed, bool) or not (seed is None or isinstance(seed, (int, np.integer))):
-        raise OrrcValueError(f"seed must be an integer, None or a numpy.random.Generator; got {seed!r}")
-    return np.random.default_rng(seed)
+    return as_seed("seed", seed)
 
 
 def _dims(N, m, amplitude):

@@ -16,12 +16,10 @@ microseconds, which is what the exploration-trade-off studies of Theorem 2 need.
 from __future__ import annotations
 
 import time
-import warnings
 
 import casadi as ca
 import numpy as np
 
-from .nlp import SolverWarning
 from .plan import Plan
 
 QRQP = {"print_iter": False, "print_header": False, "print_info": False, "error_on_fail": False,
@@ -80,7 +78,10 @@ class L1QP:
         self._qs = np.tile(q, M)
 
     def solve(self, x, W) -> Plan:
-        """Solve from state x (n,) with preview W (M, n); the value includes qᵀ|x| of the first step."""
+        """Solve from state x (n,) with preview W (M, n); the value includes qᵀ|x| of the first step.
+
+        A failed solve is reported (``success=False``, the status, ``fallback``), not warned: the
+        controller's failure ladder (:mod:`orrc.controllers.failures`) decides what to apply."""
         M, n, m = self.M, self.n, self.m
         t0 = time.perf_counter()
         self._p[:n] = x
@@ -93,16 +94,15 @@ class L1QP:
         v = self._res[0]
         U = v[:self.nu].reshape(M, m).copy()
         fallback = None
-        if not success or not np.all(np.isfinite(v)):
+        if not success or not np.all(np.isfinite(v)):   # reported, not warned: the controller's ladder decides
             success = False
-            fallback = "solver's last iterate"
+            fallback = "the solver's last iterate"
             if not np.all(np.isfinite(U)):
                 U = np.clip(np.zeros((M, m)), self.lbx[:m], self.ubx[:m])
-                fallback = "zero inputs (the solver returned non-finite values)"
-            warnings.warn(f"QP solver (qrqp) did not converge: status {status!r}; using the {fallback}",
-                          SolverWarning, stacklevel=3)
+                fallback = "zero inputs (the solver's iterate is not finite)"
         u = U.reshape(-1)
         X = np.vstack([x, (self._Sx @ x + self._Su @ u + self._Sw @ W.reshape(-1)).reshape(M, n)])
         value = float(np.abs(X[:M]).reshape(-1) @ self._qs + u @ self._Rs @ u)
         return Plan(inputs=U, states=X, value=value, success=success, status=status,
-                    iterations=int(stats.get("iter_count", 0)), solve_time=elapsed, fallback=fallback)
+                    iterations=int(stats.get("iter_count", 0)), solve_time=elapsed, fallback=fallback,
+                    solver="qrqp")
