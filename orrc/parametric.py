@@ -23,7 +23,7 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
-from ._validate import OrrcValueError, as_array, as_int
+from ._validate import OrrcValueError, as_array, as_int, check_evaluates
 from .systems import LinearSystem, NonlinearSystem, System
 
 __all__ = ["ParametricSystem", "LinearParametricSystem"]
@@ -71,6 +71,9 @@ class ParametricSystem(System):
                 f"f(x, u, w, theta) must return a vector of length n_states={self.n}; got shape {out.shape}")
         self._sym = (x, u, w, th, out)
         self.function = ca.Function("f", [x, u, w, th], [out], ["x", "u", "w", "theta"], ["x_next"])
+        th_probe = np.full(self.n_params, 0.5)   # a generic θ (θ = 0 may be special, e.g. a zero inertia)
+        check_evaluates("f", "f(x, u, w, theta)", lambda x_, u_: self.function(x_, u_, np.zeros(self.n), th_probe),
+                        self.n, self.m)
 
     # -- the model -----------------------------------------------------------------------------
     def check_theta(self, theta, name: str = "theta") -> np.ndarray:

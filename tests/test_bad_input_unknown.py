@@ -49,6 +49,8 @@ CASES = [
     case("ParametricSystem-f", lambda: orrc.ParametricSystem(3, 1, 1, 1), "f must be callable"),
     case("ParametricSystem-n_states", lambda: orrc.ParametricSystem(lambda x, u, w, t: x, 0, 1, 1), "n_states"),
     case("ParametricSystem-n_params", lambda: orrc.ParametricSystem(lambda x, u, w, t: x, 1, 1, 0), "n_params"),
+    case("ParametricSystem-math-sin", lambda: orrc.ParametricSystem(lambda x, u, w, t: x * float("nan") + t[0], 1, 1,
+                                                                     1), "not finite"),
     case("ParametricSystem-not-casadi", lambda: orrc.ParametricSystem(lambda x, u, w, t: {"next": x}, 1, 1, 1), "CasADi"),
     case("ParametricSystem-output-length", lambda: orrc.ParametricSystem(lambda x, u, w, t: ca.vertcat(x, x), 1, 1, 1), "n_states=1"),
     case("ParametricSystem-param_names", lambda: orrc.ParametricSystem(lambda x, u, w, t: x, 1, 1, 1, param_names=["a", "b"]),
