@@ -59,7 +59,10 @@ def _style(ax, xlabel: str | None = None, ylabel: str | None = None, title: str 
     if title:
         ax.set_title(title, fontsize=FONT)
     if legend and ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=FONT - 1, loc=loc, frameon=False)
+        if loc == "below":
+            ax.legend(fontsize=FONT - 1, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False)
+        else:
+            ax.legend(fontsize=FONT - 1, loc=loc, frameon=False)
     ax.grid(True, which="major", alpha=0.3)
 
 
@@ -223,7 +226,7 @@ def theorem2_parts(Ts, parts: dict, actual, title: str | None = None) -> Figure:
     Ts = as_array("Ts", Ts, ndim=1)
     parts = _dict("parts", parts)
     actual = as_array("actual", actual, (Ts.size,))
-    fig, (ax,) = _fig(1, 3.8)
+    fig, (ax,) = _fig(1, 4.6)
     total = np.zeros(Ts.size)
     for i, (label, y) in enumerate(parts.items()):
         y = as_array(f"parts[{label!r}]", y, (Ts.size,))
@@ -232,7 +235,7 @@ def theorem2_parts(Ts, parts: dict, actual, title: str | None = None) -> Figure:
     ax.plot(Ts, total, color="tab:red", lw=1.6, label="bound (sum)")
     ax.plot(Ts, actual, color="black", lw=1.4, label=r"$R^p_T(\gamma)$")
     ax.set_yscale("symlog", linthresh=_decade(np.concatenate([total, actual]), 0.05), linscale=1.5)
-    _style(ax, "T", None, title, loc="lower left")
+    _style(ax, "T", None, title, loc="below")
     return fig
 
 
