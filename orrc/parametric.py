@@ -24,7 +24,7 @@ import casadi as ca
 import numpy as np
 
 from ._validate import OrrcValueError, as_array, as_int, check_evaluates
-from .systems import LinearSystem, NonlinearSystem, System
+from .systems import LinearSystem, NonlinearSystem, System, traced
 
 __all__ = ["ParametricSystem", "LinearParametricSystem"]
 
@@ -48,6 +48,8 @@ class ParametricSystem(System):
                  name: str = "parametric system", param_names=None):
         if not callable(f):
             raise OrrcValueError(f"f must be callable f(x, u, w, theta); got {type(f).__name__}")
+        if not isinstance(name, str):
+            raise OrrcValueError(f"name must be a string; got {type(name).__name__}")
         self.n = as_int("n_states", n_states, minimum=1)
         self.m = as_int("n_inputs", n_inputs, minimum=1)
         self.n_params = as_int("n_params", n_params, minimum=1)
@@ -60,15 +62,7 @@ class ParametricSystem(System):
         self.param_names = param_names
         x, u, w = ca.SX.sym("x", self.n), ca.SX.sym("u", self.m), ca.SX.sym("w", self.n)
         th = ca.SX.sym("theta", self.n_params)
-        try:
-            out = ca.vec(ca.SX(f(x, u, w, th)))
-        except Exception as exc:  # the user function is not CasADi-traceable
-            raise OrrcValueError(
-                "f(x, u, w, theta) must be written with CasADi operations (ca.sin, ca.vertcat, ...); "
-                f"tracing it failed with: {exc}") from exc
-        if out.shape != (self.n, 1):
-            raise OrrcValueError(
-                f"f(x, u, w, theta) must return a vector of length n_states={self.n}; got shape {out.shape}")
+        out = traced(f, (x, u, w, th), self.n, "f(x, u, w, theta)")
         self._sym = (x, u, w, th, out)
         self.function = ca.Function("f", [x, u, w, th], [out], ["x", "u", "w", "theta"], ["x_next"])
         th_probe = np.full(self.n_params, 0.5)   # a generic θ (θ = 0 may be special, e.g. a zero inertia)

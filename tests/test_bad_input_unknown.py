@@ -48,6 +48,7 @@ CASES = [
     # ParametricSystem
     case("ParametricSystem-f", lambda: orrc.ParametricSystem(3, 1, 1, 1), "f must be callable"),
     case("ParametricSystem-n_states", lambda: orrc.ParametricSystem(lambda x, u, w, t: x, 0, 1, 1), "n_states"),
+    case("ParametricSystem-name", lambda: orrc.ParametricSystem(lambda x, u, w, t: x, 1, 1, 1, name=3), "name must be"),
     case("ParametricSystem-n_params", lambda: orrc.ParametricSystem(lambda x, u, w, t: x, 1, 1, 0), "n_params"),
     case("ParametricSystem-math-sin", lambda: orrc.ParametricSystem(lambda x, u, w, t: x * float("nan") + t[0], 1, 1,
                                                                      1), "not finite"),
