@@ -60,7 +60,8 @@ def _style(ax, xlabel: str | None = None, ylabel: str | None = None, title: str 
         ax.set_title(title, fontsize=FONT)
     if legend and ax.get_legend_handles_labels()[0]:
         if loc == "below":
-            ax.legend(fontsize=FONT - 1, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False)
+            ax.legend(fontsize=FONT - 1, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=1 if
+                      max(len(t) for t in ax.get_legend_handles_labels()[1]) > 28 else 2, frameon=False)
         else:
             ax.legend(fontsize=FONT - 1, loc=loc, frameon=False)
     ax.grid(True, which="major", alpha=0.3)
@@ -192,16 +193,14 @@ def lemma4_terms(margins, theta_part: float, title: str | None = None) -> Figure
     if not isinstance(margins, Margins):
         raise OrrcValueError(f"margins must be orrc.checks.Margins; got {type(margins).__name__}")
     theta_part = as_float("theta_part", theta_part, minimum=0.0)
-    fig, (ax,) = _fig(1, 3.8)
+    fig, (ax,) = _fig(1, 4.6)
     ax.plot(margins.t, margins.bound, color="tab:red", lw=1.5, label="Lemma 4 bound")
     ax.plot(margins.t, margins.bound - theta_part, color="tab:orange", lw=1.2, ls="--",
             label=r"without $\Gamma^\theta_V\,\Vert\hat\theta-\theta\Vert$")
     ax.plot(margins.t, margins.actual, color="tab:blue", lw=1.0,
             label=r"$V(x_{t+1};\hat\theta) - V(x_t;\hat\theta)$")
     ax.set_yscale("symlog", linthresh=_decade(np.concatenate([margins.bound, margins.actual]), 0.25), linscale=1.5)
-    lo, hi = ax.get_ylim()
-    ax.set_ylim(lo, hi * 30)                           # room for the legend
-    _style(ax, "t", "increment", title, loc="upper right")
+    _style(ax, "t", "increment", title, loc="below")
     return fig
 
 
