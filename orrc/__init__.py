@@ -15,7 +15,7 @@ from .solvers.plan import Plan, SolverError, SolverWarning
 from .systems import LinearSystem, NonlinearSystem, System
 from .parametric import LinearParametricSystem, ParametricSystem
 from . import config, disturbances, examples
-from . import certify, checks, estimation, theory
+from . import certify, checks, estimation, theory, tradeoff
 
 __version__ = "0.1.0"
 
