@@ -5,8 +5,8 @@ controllers, the closed-loop simulator and the metrics. Plotting lives in
 ``orrc.viz`` and is imported only by the book.
 """
 from ._validate import NonFiniteWarning, OrrcValueError, SizeWarning
-from .controllers import (LQR, Clairvoyant, Controller, Decision, EstimateThenControl, LiftedRHC, Observation,
-                          PreviewRHC, ZeroInput)
+from .controllers import (GPC, LQR, Clairvoyant, Controller, Decision, DisturbanceAction, EstimateThenControl, HInfinity,
+                          LiftedRHC, Observation, PreviewRHC, RegretOptimal, ZeroInput)
 from .costs import Cost, CostSequence, L1Cost, QuadraticCost, StageCost
 from .disturbances import Ball, Box
 from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
@@ -25,7 +25,7 @@ __all__ = [
     "StageCost", "QuadraticCost", "L1Cost", "Cost", "CostSequence",
     "Ball", "Box", "disturbances", "examples",
     "Controller", "Observation", "Decision", "PreviewRHC", "EstimateThenControl", "LiftedRHC", "LQR",
-    "Clairvoyant", "ZeroInput", "Plan",
+    "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "Plan",
     "simulate", "Trajectory",
     "attenuation_regret", "attenuation_ratio", "dynamic_regret",
 ]

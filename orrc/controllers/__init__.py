@@ -3,9 +3,12 @@ policy on solver failure (:mod:`orrc.controllers.failures`, shared by every rece
 from .base import Controller, Decision, Observation
 from .baselines import LQR, Clairvoyant, ZeroInput
 from .failures import FailureLadder
+from .gpc import GPC, DisturbanceAction
+from .hinf import HInfinity
+from .regret_optimal import RegretOptimal
 from .preview import PreviewRHC
 from .lifted import LiftedRHC
 from .estimate import EstimateThenControl, Excitation
 
 __all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "FailureLadder",
-           "LiftedRHC", "EstimateThenControl", "Excitation"]
+           "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "LiftedRHC", "EstimateThenControl", "Excitation"]
