@@ -1,5 +1,6 @@
-# The three commands of the README: `make book`, `make test` and `make lab`.
-# All create .venv from requirements.txt (pinned) on first use.
+# The three commands of the README: `make book`, `make test` and `make lab`; for courses,
+# `make book-student` (the book without solutions) and `make assignments` (graded assignments,
+# built and graded). All create .venv from requirements.txt (pinned) on first use.
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
@@ -10,7 +11,7 @@ LAB_SETTINGS := $(VENV)/share/jupyter/lab/settings
 PORT ?= 8000
 LAB_ARGS ?=
 
-.PHONY: book test lab serve bench clean
+.PHONY: book test lab serve bench clean book-student assignments
 
 $(STAMP): requirements.txt pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -23,13 +24,22 @@ $(STAMP): requirements.txt pyproject.toml
 book: $(STAMP)
 	set -eo pipefail; env -u ORRC_QUICK $(PY) -m tools.build_book
 
+# the solution-free edition, into _build/student/html (reuses a fresh `make book`'s executed chapters)
+book-student: $(STAMP)
+	set -eo pipefail; $(PY) -m tools.build_student
+
+# every assignment's student notebook and autograder (_build/assignments/NAME/dist), solutions and
+# blank notebooks graded with otter run; fails when a solution loses a point or a blank one gets full marks
+assignments: $(STAMP)
+	set -eo pipefail; $(PY) -m tools.assignments
+
 # the whole suite; it builds its own, shortened, book into _build/test (never _build/html)
 test: $(STAMP)
 	set -eo pipefail; ORRC_QUICK=1 $(PY) -m pytest -q tests
 
 # JupyterLab (pinned, requirements-lab.txt) in the same .venv, chapters open as notebooks
 $(LAB_STAMP): $(STAMP) requirements-lab.txt tools/jupyterlab-overrides.json
-	$(PY) -m pip install --quiet -r requirements-lab.txt -c requirements.txt
+	$(PY) -m pip install --quiet -r requirements.txt -r requirements-lab.txt
 	mkdir -p $(LAB_SETTINGS)
 	cp tools/jupyterlab-overrides.json $(LAB_SETTINGS)/overrides.json
 	touch $(LAB_STAMP)

@@ -28,9 +28,10 @@ import base64
 import html
 import itertools
 import json
+import math
 import uuid
 
-from .._validate import OrrcValueError, as_int
+from .._validate import OrrcValueError, as_int, check_size
 from .figures import DPI, figure_to_png, picture_html, render  # noqa: F401 (figure_to_png: re-exported)
 
 _JS = """
@@ -72,12 +73,18 @@ class Explorer:
 
     def _render_frames(self) -> dict:
         """``{"images": key -> wide PNG (base64), "narrow": key -> narrow PNG or None}``."""
+        from matplotlib.figure import Figure
+
         names = list(self.params)
         wide, narrow = {}, {}
         for idx in itertools.product(*(range(len(self.params[k])) for k in names)):
             kwargs = {k: self.params[k][i] for k, i in zip(names, idx)}
             key = "_".join(map(str, idx))
-            w, n = render(self.plot(**kwargs), self.dpi)
+            fig = self.plot(**kwargs)
+            if not isinstance(fig, Figure):
+                raise OrrcValueError(f"plot must return a matplotlib Figure; plot({kwargs}) returned "
+                                     f"{type(fig).__name__}")
+            w, n = render(fig, self.dpi)
             wide[key] = base64.b64encode(w).decode("ascii")
             narrow[key] = None if n is None else base64.b64encode(n).decode("ascii")
         has_narrow = all(v is not None for v in narrow.values())
@@ -141,9 +148,6 @@ class Explorer:
         return bundle
 
 
-MAX_FRAMES = 100   # a page with more frames is slow to build and heavy to load
-
-
 def explore(plot, dpi: int = DPI, live: bool = True, initial: dict | None = None, **params) -> Explorer:
     """Precompute ``plot(**kwargs)`` on the grid of ``params`` and return an :class:`Explorer`.
 
@@ -157,18 +161,18 @@ def explore(plot, dpi: int = DPI, live: bool = True, initial: dict | None = None
         raise OrrcValueError(f"plot must be a function returning a matplotlib Figure; got {type(plot).__name__}")
     if not params:
         raise OrrcValueError("explore needs at least one parameter, e.g. explore(plot, M=[5, 10])")
+    for k, v in params.items():
+        if isinstance(v, (str, bytes)) or not hasattr(v, "__iter__"):
+            raise OrrcValueError(f"parameter {k!r} must be a list of values; got {type(v).__name__}")
     params = {k: list(v) for k, v in params.items()}
     for k, v in params.items():
         if not v:
             raise OrrcValueError(f"parameter {k!r} has no values")
-    n_frames = 1
-    for v in params.values():
-        n_frames *= len(v)
-    if n_frames > MAX_FRAMES:
-        raise OrrcValueError(
-            f"the grid {' x '.join(f'{k} ({len(v)})' for k, v in params.items())} has {n_frames} combinations: "
-            f"{2 * n_frames} images to render (about {n_frames // 2} s and {n_frames * 80 // 1000} MB in the page); "
-            f"at most {MAX_FRAMES} are allowed: keep a few values per parameter")
+    frames = math.prod(len(v) for v in params.values())
+    check_size(f"explore over {frames} frames ({' x '.join(f'{k}: {len(v)}' for k, v in params.items())})",
+               nbytes=frames * 2e5, ops=frames * 2e8, hint="keep each parameter to a few values")
+    if initial is not None and not isinstance(initial, dict):
+        raise OrrcValueError(f"initial must be a dict parameter -> value or None; got {type(initial).__name__}")
     initial = dict(initial or {})
     for k, v in params.items():
         initial.setdefault(k, v[0])
