@@ -29,15 +29,10 @@ def executed(chapter):
 
 
 def glued(chapter) -> dict:
-    """The values a chapter glued (myst-nb's glue outputs of the executed notebook), as text."""
-    nb = nbformat.read(executed(chapter), as_version=4)
-    out = {}
-    for cell in nb.cells:
-        for o in cell.get("outputs", []):
-            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
-            if name:
-                out[name] = next(v for k, v in o["data"].items() if k.endswith("text/plain"))
-    return out
+    """The values a chapter glued, as text: myst-nb writes them beside the executed notebook,
+    into ``<page>.glue.json`` (the notebook itself keeps no glue output)."""
+    data = json.loads(executed(chapter).with_suffix(".glue.json").read_text(encoding="utf-8"))
+    return {name: next(v for k, v in out["data"].items() if k.endswith("text/plain")) for name, out in data.items()}
 
 
 @pytest.mark.slow

@@ -29,7 +29,7 @@ import io
 import re
 import uuid
 
-from matplotlib.ticker import LogFormatter
+from matplotlib.ticker import LogFormatterSciNotation
 
 DPI = 100                  # the rendering resolution: 100 px per figure inch
 MIN_FONT_PT = 9.0          # the smallest font in any figure
@@ -79,17 +79,21 @@ def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True) -
 
 # ---------------------------------------------------------------- legibility
 
-class _PlainLogFormatter(LogFormatter):
-    """LogFormatter's choice of which ticks to label, printed as plain numbers (0.6, 3, 40)."""
+class _PlainLogFormatter(LogFormatterSciNotation):
+    """The log formatter's choice of which ticks to label, printed as plain numbers between
+    0.001 and 10 000 (0.6, 3, 40, 2500) and as m×10ᵏ beyond."""
 
-    def _num_to_string(self, x, vmin, vmax):
-        return f"{x:.3g}"
+    def __call__(self, x, pos=None):
+        text = super().__call__(x, pos)
+        if text and 1e-3 <= abs(x) < 1e4:
+            return f"{x:.4g}"
+        return text
 
 
 def _tidy_ticks(ax) -> None:
     """Linear axes: ticks in steps of 1, 2 or 5 (never 2.5: no 42.5, 47.5). Log axes that span
     less than two decades: plain labels (3, 30) instead of 3×10⁰."""
-    from matplotlib.ticker import AutoLocator, LogFormatterSciNotation, MaxNLocator
+    from matplotlib.ticker import AutoLocator, MaxNLocator
 
     for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
         scale = axis.get_scale()
@@ -101,7 +105,7 @@ def _tidy_ticks(ax) -> None:
                 for which, fmt in (("major", axis.get_major_formatter()), ("minor", axis.get_minor_formatter())):
                     if type(fmt) is LogFormatterSciNotation:
                         plain = _PlainLogFormatter(labelOnlyBase=which == "major" and hi / lo >= 10,
-                                                   minor_thresholds=(2, 0.5))
+                                                   minor_thresholds=(1, 0.4))
                         (axis.set_major_formatter if which == "major" else axis.set_minor_formatter)(plain)
 
 

@@ -30,12 +30,14 @@ def lemma2_coefficients(coefs: dict, M: int, H: int, ax=None) -> Figure:
     for i, (label, c) in enumerate(coefs.items()):
         c = as_array(f"coefs[{label!r}]", c, (H + M - 1,))
         ax.semilogy(j, c, color=f"C{i}", marker=".", markersize=3, label=label)
+    span = H + M - 1
     for lo, hi, text, col in ((0, M - 1, "window at $t$", "tab:purple"), (M, H - 1, "decaying", "0.6"),
                               (H, H + M - 2, "window at $t+H$", "tab:orange")):
         if hi >= lo:
             ax.axvspan(lo - 0.5, hi + 0.5, color=col, alpha=0.08, linewidth=0)
-            ax.text(0.5 * (lo + hi), 1.0, text, transform=ax.get_xaxis_transform(), ha="center", va="bottom",
-                    fontsize=FONT, color="0.3")
+            if hi - lo + 1 >= 0.25 * span:   # a band too narrow for its name stays unnamed (no overprint)
+                ax.text(0.5 * (lo + hi), 1.0, text, transform=ax.get_xaxis_transform(), ha="center",
+                        va="bottom", fontsize=FONT, color="0.3")
     ax.set_xlabel("$j - t$")
     ax.set_ylabel(r"$M_{w,j}$")
     ax.legend(fontsize=FONT, loc="lower right")
