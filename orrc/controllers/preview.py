@@ -11,10 +11,16 @@ from .._validate import OrrcValueError, _describe, as_array, as_int, check_evalu
 from ..costs import QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from ..solvers import lq
-from ..solvers.nlp import ShootingNLP
+from ..solvers.nlp import IPOPT, NLP_SOLVERS, SOLVER_LABELS, SQP, ShootingNLP
 from ..solvers.plan import Plan, SolverWarning
 from .base import Controller, Decision, Observation
 from .failures import DEFAULT_MAX_FAILURES, FailureLadder
+
+
+#: the values of ``PreviewRHC(solver=...)``
+SOLVER_CHOICES = ("auto", "lq", "nlp", "sqp", "ipopt")
+#: the CasADi solvers each NLP choice tries, in order (the rungs of the failure ladder)
+_NLP_LADDERS = {"nlp": NLP_SOLVERS, "sqp": (SQP,), "ipopt": (IPOPT,)}
 
 
 def _bounds(name, bounds, dim):
@@ -61,8 +67,9 @@ class PreviewRHC(Controller):
 
     Solvers: a :class:`~orrc.LinearSystem` with a :class:`~orrc.QuadraticCost` and
     no bounds is solved exactly by the Riccati recursion with disturbance
-    feed-forward (``orrc.solvers.lq``); everything else by CasADi + IPOPT
-    (``orrc.solvers.nlp``), built once and warm-started from the shifted previous plan.
+    feed-forward (``orrc.solvers.lq``); everything else by CasADi (``orrc.solvers.nlp``), built
+    once and warm-started from the shifted previous plan: SQP (CasADi's ``sqpmethod`` with the
+    QP solver ``qrqp``) first, IPOPT when SQP fails.
 
     Parameters
     ----------
@@ -72,14 +79,20 @@ class PreviewRHC(Controller):
     terminal_cost : extension beyond the paper -- a (n, n) PSD matrix Pf (cost x̃ᵀPf x̃
         on x̃_{t+M}) or a callable in CasADi operations. The paper has none.
     state_bounds : extension beyond the paper -- (lo, hi) box on x̃_{t+1..t+M} (CasADi path).
-    solver : "auto" (default), "lq" or "nlp".
-    solver_options : extra options for ``casadi.nlpsol`` (e.g. {"ipopt.max_iter": 100}); the
-        exact LQ path has no options and warns that they are ignored.
+    solver : "auto" (default: "lq" where the problem allows it, else "nlp"), "lq" (the exact
+        Riccati law), "nlp" (CasADi: SQP, then IPOPT as the fallback when SQP fails), "sqp" (SQP
+        alone) or "ipopt" (IPOPT alone). Each step reports the solver that produced it
+        (``Plan.solver``, ``Decision.solver``, ``Trajectory.solver``: "lq", "sqp" or "ipopt").
+    solver_options : extra options for the CasADi solvers: keys "sqpmethod.*" for SQP (e.g.
+        {"sqpmethod.max_iter": 20}), "ipopt.*" for IPOPT (e.g. {"ipopt.max_iter": 100}), other
+        keys for both (``orrc.solvers.nlp``); options for a solver that is not used, and any
+        options on the exact LQ path (which has none), are ignored with a warning.
     max_failures : consecutive failed steps after which :meth:`control` stops with
         :class:`~orrc.SolverError` (default 3); None never stops.
 
     Solver failures (NLP path) follow :mod:`orrc.controllers.failures`: a failed solve is retried
-    from a cold start; if that fails too, the step applies the previous successful plan shifted
+    from a cold start, then (solver="nlp") with IPOPT; if that fails too, the step applies the
+    previous successful plan shifted
     (while it lasts, fewer than M steps), else the solver's last iterate, and is marked
     (``success=False``, its V_M NaN, ``fallback`` naming what was applied); after
     ``max_failures`` consecutive failed steps the controller raises :class:`~orrc.SolverError`.
@@ -106,8 +119,8 @@ class PreviewRHC(Controller):
         self.preview_w = self.preview_c = self.M
         self.input_bounds = _bounds("input_bounds", input_bounds, system.m)
         self.state_bounds = _bounds("state_bounds", state_bounds, system.n)
-        if not isinstance(solver, str) or solver not in ("auto", "lq", "nlp"):
-            raise OrrcValueError(f"solver must be 'auto', 'lq' or 'nlp'; got {solver!r}")
+        if not isinstance(solver, str) or solver not in SOLVER_CHOICES:
+            raise OrrcValueError(f"solver must be one of {', '.join(map(repr, SOLVER_CHOICES))}; got {solver!r}")
         if solver_options is not None and not isinstance(solver_options, dict):
             raise OrrcValueError(f"solver_options must be a dict; got {type(solver_options).__name__}")
         self._ladder = FailureLadder(self.M, max_failures, name=f"PreviewRHC(M={self.M})")
@@ -127,17 +140,18 @@ class PreviewRHC(Controller):
             raise OrrcValueError(
                 "solver='lq' needs a LinearSystem, a QuadraticCost, no input/state bounds and a "
                 "quadratic (matrix) terminal cost or none; use solver='nlp' or 'auto'")
-        self.solver = "lq" if (solver == "lq" or (solver == "auto" and lq_ok)) else "nlp"
+        self.solver = ("lq" if lq_ok else "nlp") if solver == "auto" else solver
         self._Pf = Pf
         if self.solver == "lq":
             self._nlp = None
             if solver_options:
                 warnings.warn(f"solver_options {sorted(solver_options)} are ignored: this problem is solved "
                               "exactly on the LQ path (Riccati recursion), which has no options; pass "
-                              "solver='nlp' to solve it with CasADi + IPOPT instead", UserWarning, stacklevel=2)
+                              "solver='nlp' to solve it with CasADi (SQP, IPOPT as the fallback) instead",
+                              UserWarning, stacklevel=2)
         else:
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
-                                    term_fn, solver_options=solver_options)
+                                    term_fn, solvers=_NLP_LADDERS[self.solver], solver_options=solver_options)
 
     @functools.cached_property
     def law(self) -> lq.LQPreviewLaw | None:
@@ -193,8 +207,8 @@ class PreviewRHC(Controller):
         (NLP path). Returns a :class:`~orrc.solvers.Plan` with ``.inputs`` (M, m),
         ``.states`` (M+1, n) and ``.value`` = V_M.
 
-        A failed NLP solve is retried from a cold start; if that fails too the plan has
-        ``success=False``, its ``fallback`` says what its inputs are (the shifted warm start
+        A failed NLP solve is retried from a cold start (then with IPOPT, on the default NLP path);
+        if every rung fails the plan has ``success=False``, its ``fallback`` says what its inputs are (the shifted warm start
         when one was given, else the solver's last iterate), and one
         :class:`~orrc.SolverWarning` says so.
         """
@@ -207,7 +221,7 @@ class PreviewRHC(Controller):
             if warm is not None:
                 plan.inputs, plan.states, plan.fallback = warm[0], np.vstack([x, warm[1][1:]]), \
                     "the warm start, shifted"
-            warnings.warn(f"PreviewRHC.plan: the NLP solver ({plan.solver}) did not succeed ({plan.status}); "
+            warnings.warn(f"PreviewRHC.plan: the NLP solve ({SOLVER_LABELS[plan.solver]}) did not succeed ({plan.status}); "
                           f"the plan holds {plan.fallback} (plan.success is False)", SolverWarning, stacklevel=2)
         return plan
 
@@ -231,12 +245,19 @@ class PreviewRHC(Controller):
 
     def _rungs(self, x, W, P, warm):
         """The ways of solving one M-step problem on the NLP path, in the order the failure ladder
-        tries them: from the warm start (when there is one), then from a cold start."""
-        rungs = []
-        if warm is not None:
-            gU, gX = warm[0], np.vstack([x, warm[1][1:]])
-            rungs.append(("warm start", lambda: self._nlp.solve(x, W, P, gU, gX)))
-        rungs.append(("cold start", lambda: self._nlp.solve(x, W, P)))
+        tries them: the first solver (SQP on the default path) from the warm start (when there is
+        one), then from a cold start; then each further solver (IPOPT) once, from the warm start
+        when there is one, else cold."""
+        first, *more = self._nlp.solvers
+        guess = None if warm is None else (warm[0], np.vstack([x, warm[1][1:]]))
+
+        def rung(solver, start):
+            label = f"{SOLVER_LABELS[solver]} {'warm' if start else 'cold'} start"
+            return label, lambda: self._nlp.solve(x, W, P, *(start or (None, None)), solver=solver)
+
+        rungs = [rung(first, guess)] if guess is not None else []
+        rungs.append(rung(first, None))
+        rungs += [rung(solver, guess) for solver in more]
         return rungs
 
     # -- the controller -----------------------------------------------------------
@@ -244,9 +265,8 @@ class PreviewRHC(Controller):
         self._ladder.reset()
 
     def control(self, obs: Observation) -> Decision:
-        if self.solver == "lq" and obs.cost_params is None:
-            u, value = self.law.input_and_value(obs.x, obs.w_preview)
-            return Decision(u=u, value=value)
+        if self.solver == "lq" and obs.cost_params is None:  # V_M after the run: values_batch
+            return Decision(u=self.law.input(obs.x, obs.w_preview), value_deferred=True, solver="lq")
         P = (np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
              if obs.cost_params is None else obs.cost_params)
         x, W, invariant = obs.x, obs.w_preview, obs.cost_params is None
@@ -257,7 +277,12 @@ class PreviewRHC(Controller):
             plan = self._ladder.step(obs.t, self._rungs(x, W, P, None if warm is None else warm[:2]))
         return Decision(u=plan.inputs[0].copy(), value=plan.value, success=plan.success,
                         status=plan.status, iterations=plan.iterations, solve_time=plan.solve_time,
-                        fallback=plan.fallback)
+                        fallback=plan.fallback, solver=plan.solver)
+
+    def values_batch(self, X, W_windows):
+        """V_M(x_t, W_t) of the steps the exact LQ path deferred (:meth:`control` with a time-invariant
+        cost): one matrix product over the whole run (:meth:`orrc.solvers.lq.LQPreviewLaw.values`)."""
+        return self.law.values(X, W_windows)
 
     def __repr__(self):
         return f"PreviewRHC(M={self.M}, solver={self.solver!r}, system={self.system!r})"

@@ -147,12 +147,33 @@ class LQPreviewLaw:
             raise OrrcValueError(
                 f"the exact LQ preview law at M={M} overflows (H or L is not finite): rescale Q, R or shorten M")
         self.H = H
+        # -[K L]: one matrix-vector product per step gives u = -K x - L vec W (input)
+        self._G = -np.hstack([self.K, self.L])
         # [H; -[K L]]: one matrix-vector product gives both H z and u (input_and_value)
-        self._HG = np.vstack([H, -np.hstack([self.K, self.L])])
+        self._HG = np.vstack([H, self._G])
 
     def first_input(self, x, W):
         """κ_M(x) = -K x - L vec W."""
         return -self.K @ x - self.L @ W.reshape(-1)
+
+    def input(self, x, W):
+        """κ_M(x) = -[K L] [x; vec W], one product (the closed-loop hot path of :class:`orrc.PreviewRHC`,
+        whose values come from :meth:`values` after the run)."""
+        return self._G @ np.concatenate((x, W.reshape(-1)))
+
+    def values(self, X, W_windows, chunk: int = 4096) -> np.ndarray:
+        """V_M(x_t, W_t) = z_tᵀ H z_t, z_t = [x_t; vec W_t], for many (x_t, W_t) at once.
+
+        X : (k, n); W_windows : (k, M, n). One matrix product per ``chunk`` rows (so the
+        temporaries stay at chunk·(n + Mn) numbers whatever k is); each value equals
+        :meth:`value` of its row up to round-off.
+        """
+        k = len(X)
+        out = np.empty(k)
+        for s in range(0, k, chunk):
+            Z = np.concatenate((X[s:s + chunk], W_windows[s:s + chunk].reshape(len(X[s:s + chunk]), -1)), axis=1)
+            out[s:s + chunk] = np.einsum("ij,ij->i", Z @ self.H, Z)
+        return out
 
     def input_and_value(self, x, W):
         """(κ_M(x), V_M(x, W)) from one product with the stacked [H; -[K L]].
