@@ -1,7 +1,7 @@
 """Entry point of ``make bench``: ``python -m benchmarks.run [--quick] [--only NAME]``.
 
-Runs the performance benchmarks of issue 2 (see ``benchmarks/pendulum.py`` and
-``benchmarks/lq_path.py``), prints the machine and a Markdown table of results,
+Runs the performance benchmarks of issues 2 and 11 (see ``benchmarks/pendulum.py``,
+``benchmarks/closed_loop.py`` and ``benchmarks/lq_path.py``) and the comparison table of issue 14, prints the machine and a Markdown table of results,
 and exits with status 1 if a target is missed or a correctness check fails
 (status 0 otherwise). ``--quick`` runs tiny sizes: it checks that the benchmarks
 work, and its timings mean nothing.
@@ -12,16 +12,17 @@ import argparse
 import sys
 import time
 
-from . import comparison, lq_path, pendulum
+from . import closed_loop, comparison, lq_path, pendulum
 from .common import CheckFailed, machine, markdown_table
 
-FULL = {"pendulum": {}, "lq": {}, "comparison": {}}  # the defaults of pendulum.run and lq_path.run
+FULL = {"pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}}  # the defaults of each module's run
 QUICK = {
     "pendulum": dict(M=5, thetas=(0.5,), reps_orrc=2, reps_peer=1),
+    "closed_loop": dict(T=12, reps=1, reps_ipopt=1),
     "lq": dict(T=40, M=5, reps=2),
     "comparison": dict(T=10, M=4),
 }
-MODULES = {"pendulum": pendulum, "lq": lq_path, "comparison": comparison}
+MODULES = {"pendulum": pendulum, "closed_loop": closed_loop, "lq": lq_path, "comparison": comparison}
 
 
 def main(argv=None) -> int:

@@ -48,7 +48,10 @@ def buffered(owner, key: str, make, *initial) -> Buffered:
     """The :class:`Buffered` of ``owner`` named ``key`` for the calling thread, made by ``make()``
     (which returns the ``casadi.Function``) on first use, its arguments set to ``initial`` then
     (arguments that never change, e.g. bounds)."""
-    cache = owner.__dict__.setdefault("_casadi_buffers", {})
+    try:
+        cache = owner.__dict__["_casadi_buffers"]
+    except KeyError:
+        cache = owner.__dict__["_casadi_buffers"] = {}
     k = (key, threading.get_ident())
     call = cache.get(k)
     if call is None:

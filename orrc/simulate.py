@@ -265,7 +265,8 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
         """The record of the first ``steps`` steps (all T, or the steps before a SolverError)."""
         Xs, Us, Cs, Vs, oks = X[:steps + 1], U[:steps], C[:steps], V[:steps], ok[:steps]
         if deferred[:steps].any():  # V_M of the deferred steps: one call for the whole run
-            _batch_values(controller, Xs, wpad, Mw, deferred[:steps], Vs, has_value[:steps])
+            with np.errstate(over="ignore", invalid="ignore"):  # an overflowed V_M is reported below
+                _batch_values(controller, Xs, wpad, Mw, deferred[:steps], Vs, has_value[:steps])
         if quad:  # c_t = x_tᵀQx_t + u_tᵀRu_t for all t at once (the costs do not feed back)
             with np.errstate(over="ignore", invalid="ignore"):
                 Cs[:] = np.einsum("ti,ti->t", Xs[:-1] @ Q, Xs[:-1]) + np.einsum("ti,ti->t", Us @ R, Us)

@@ -114,8 +114,8 @@ class Controller:
         Returns (k,) the values V_M(x_t, W_t), each equal to what the step would have reported.
         A controller that defers values must implement it; the default refuses.
         """
-        raise NotImplementedError(f"controller {self.name!r} returned value_deferred=True but does not implement "
-                                  "values_batch(X, W_windows)")
+        raise OrrcValueError(f"controller {self.name!r} returned Decision(value_deferred=True) but does not implement "
+                             "values_batch(X, W_windows), which must then give those steps' V_M")
 
     def control(self, obs: Observation) -> Decision:  # pragma: no cover - abstract
         raise NotImplementedError

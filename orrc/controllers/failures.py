@@ -59,7 +59,7 @@ def max_failures_arg(max_failures) -> int | None:
 
 def _shift(rows: np.ndarray, k: int) -> np.ndarray:
     """rows[k:] followed by k copies of the last row (same length)."""
-    return np.vstack([rows[k:], np.repeat(rows[-1:], k, axis=0)])
+    return np.concatenate((rows[k:], np.broadcast_to(rows[-1], (k,) + rows.shape[1:])))
 
 
 class FailureLadder:

@@ -136,6 +136,8 @@ class PreviewRHC(Controller):
         if solver_options is not None and not isinstance(solver_options, dict):
             raise OrrcValueError(f"solver_options must be a dict; got {type(solver_options).__name__}")
         self._ladder = FailureLadder(self.M, max_failures, name=f"PreviewRHC(M={self.M})")
+        # the parameters of c_t..c_{t+M-1} for a time-invariant cost (read-only, made once)
+        self._default_P = np.broadcast_to(cost.default_params, (self.M, cost.n_params))
         Pf, term_fn = None, None
         if terminal_cost is not None:
             if callable(terminal_cost):
@@ -191,7 +193,7 @@ class PreviewRHC(Controller):
             raise OrrcValueError(f"w_preview must have shape {want}; got shape {w_preview.shape}")
         w_preview = self._pad(w_preview[:k])
         if cost_params is None:
-            P = np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
+            P = self._default_P
         else:
             P = self.cost.check_params(cost_params)
             if P.shape[0] < self.M:
@@ -270,7 +272,7 @@ class PreviewRHC(Controller):
         one), then from a cold start; then each further solver (IPOPT) once, from the warm start
         when there is one, else cold."""
         first, *more = self._nlp.solvers
-        guess = None if warm is None else (warm[0], np.vstack([x, warm[1][1:]]))
+        guess = warm  # (inputs, states x̃_0..x̃_M); the solver replaces x̃_0 by x
 
         def rung(solver, start):
             label = f"{SOLVER_LABELS[solver]} {'warm' if start else 'cold'} start"
@@ -289,8 +291,7 @@ class PreviewRHC(Controller):
         W = obs.w_preview if self.preview_w == self.M else self._pad(obs.w_preview)
         if self.solver == "lq" and obs.cost_params is None:  # V_M after the run: values_batch
             return Decision(u=self.law.input(obs.x, W), value_deferred=True, solver="lq")
-        P = (np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
-             if obs.cost_params is None else obs.cost_params)
+        P = self._default_P if obs.cost_params is None else obs.cost_params
         x, invariant = obs.x, obs.cost_params is None
         if self.solver == "lq":
             plan = self._plan(x, W, P, invariant, None)
@@ -303,7 +304,16 @@ class PreviewRHC(Controller):
 
     def values_batch(self, X, W_windows):
         """V_M(x_t, W_t) of the steps the exact LQ path deferred (:meth:`control` with a time-invariant
-        cost): one matrix product over the whole run (:meth:`orrc.solvers.lq.LQPreviewLaw.values`)."""
+        cost): one matrix product over the whole run (:meth:`orrc.solvers.lq.LQPreviewLaw.values`).
+
+        X : (k, n) states; W_windows : (k, preview_w, n) their preview windows. Returns (k,).
+        """
+        if self.solver != "lq":
+            raise OrrcValueError(f"values_batch is the exact LQ path's (this controller uses solver={self.solver!r}, "
+                                 "which reports V_M at each step)")
+        n, k = self.system.n, self.preview_w
+        X = as_array("X", X, (None, n))
+        W_windows = as_array("W_windows", W_windows, (len(X), k, n))
         if self.preview_w < self.M:  # the unseen w_{t+k..t+M-1} are zero in the plan
             full = np.zeros((len(X), self.M, self.system.n))
             full[:, :self.preview_w] = W_windows

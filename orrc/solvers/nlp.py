@@ -48,6 +48,8 @@ keys (options of every CasADi ``nlpsol``, e.g. ``"print_time"``) to each solver 
 """
 from __future__ import annotations
 
+import math
+import re
 import time
 import warnings
 
@@ -102,7 +104,7 @@ DEFAULT_SQP = {
 ACCEPT_RTOL, ACCEPT_ATOL = 1e-8, 1e-12
 
 
-def split_options(solver_options: dict | None, solvers) -> tuple[dict, list]:
+def _split_options(solver_options: dict | None, solvers) -> tuple[dict, list]:
     """``{solver: options}`` for the ``solvers`` to build, from the user's ``solver_options`` merged
     into the defaults (module docstring: ``"sqpmethod."`` keys for SQP, ``"ipopt."`` keys for
     IPOPT, other keys for each), and the keys that none of ``solvers`` takes (to warn about)."""
@@ -136,8 +138,7 @@ def _nlpsol(solver: str, problem: dict, opts: dict, given: dict | None):
     try:
         return ca.nlpsol(f"rhc_{solver}", _PLUGIN[solver], problem, opts)
     except RuntimeError as exc:  # CasADi rejects unknown options at construction
-        text = str(exc).strip()
-        first = text.splitlines()[-1] if text else repr(exc)
+        first = _last_line(exc)
         hint = (" (options of one solver take its prefix: 'sqpmethod.max_iter', 'ipopt.max_iter'; "
                 "unprefixed keys go to every solver)") if given else ""
         raise OrrcValueError(
@@ -146,8 +147,14 @@ def _nlpsol(solver: str, problem: dict, opts: dict, given: dict | None):
 
 
 def _last_line(exc: Exception) -> str:
-    text = str(exc).strip()
-    return text.splitlines()[-1][:200] if text else type(exc).__name__
+    """The informative line of a CasADi error (its source location dropped): the one naming the unknown
+    option or missing plugin when there is one, else the last."""
+    lines = [ln.strip() for ln in str(exc).strip().splitlines() if ln.strip()]
+    if not lines:
+        return type(exc).__name__
+    keys = ("Unknown option", "No such", "not found", "Invalid", "failed")
+    line = next((ln for ln in lines if any(k in ln for k in keys)), lines[-1])
+    return re.sub(r"^(\.\.\./)?\S+\.(cpp|hpp):\d+: ", "", line)[:200]
 
 
 class ShootingNLP(DropsBuffers):
@@ -197,7 +204,7 @@ class ShootingNLP(DropsBuffers):
         p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp))
         problem = {"x": z, "f": J, "g": ca.vertcat(*g), "p": p}
         self.problem = problem  # the transcription: z = [vec U; x̃_1..x̃_M], p = [x; vec W; vec P], g = 0
-        opts, unused = split_options(solver_options, self.solvers)
+        opts, unused = _split_options(solver_options, self.solvers)
         if unused:
             warnings.warn(f"solver_options {sorted(unused)} are ignored: they are for a solver this controller does "
                           f"not use (it uses {', '.join(SOLVER_LABELS[s] for s in self.solvers)})",
@@ -276,7 +283,7 @@ class ShootingNLP(DropsBuffers):
         X = np.vstack([x, zopt[M * m:].reshape(M, n)])
         extra = {"lam_x": call.res[3].copy(), "lam_g": call.res[4].copy()}  # the multipliers (bounds, dynamics)
         fallback = None
-        finite = bool(np.all(np.isfinite(zopt)) and np.isfinite(value))
+        finite = bool(np.isfinite(zopt).all() and math.isfinite(value))
         if success and finite and solver == SQP:
             reason = self._rejection(call.res, zopt, value, p, guess_U, extra)  # (p: the buffer, unchanged)
             if reason:
@@ -284,7 +291,7 @@ class ShootingNLP(DropsBuffers):
         if not success or not finite:
             success = False
             fallback = "the solver's last iterate"
-            if not (np.all(np.isfinite(U)) and np.all(np.isfinite(X))):
+            if not (np.isfinite(U).all() and np.isfinite(X).all()):
                 U, X = guess_U.copy(), np.vstack([x, guess_next])
                 fallback = "the initial guess (the solver's iterate is not finite)"
             if status == "Solve_Succeeded":
@@ -307,13 +314,13 @@ class ShootingNLP(DropsBuffers):
         rollout(p, guess_U.reshape(-1))
         J_guess, X_guess = float(rollout.res[0][0]), rollout.res[1]
         extra["guess_cost"] = J_guess
-        if not (np.isfinite(J_guess) and np.all(np.isfinite(X_guess))):
+        if not (math.isfinite(J_guess) and np.isfinite(X_guess).all()):
             return None  # the guess's rollout overflows: no comparison point
         if self.state_bounds is not None:
             Xg = X_guess.reshape(self.M, self.n)
-            if np.any(Xg < self.state_bounds[0]) or np.any(Xg > self.state_bounds[1]):
+            if (Xg < self.state_bounds[0]).any() or (Xg > self.state_bounds[1]).any():
                 return None  # the guess's rollout leaves the state bounds: not a feasible comparison point
-        slack = ACCEPT_RTOL * abs(J_guess) + float(np.abs(lam_g).sum()) * float(np.abs(g).max(initial=0.0))
+        slack = ACCEPT_RTOL * abs(J_guess) + float(np.abs(lam_g).sum()) * (float(np.abs(g).max()) if g.size else 0.0)
         if value > J_guess + slack + ACCEPT_ATOL:
             return (f"objective {value:.8g} above the cost {J_guess:.8g} of the initial guess's inputs "
                     "(a feasible point): SQP stopped at a worse stationary point")
