@@ -291,12 +291,14 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
                           wall_time=wall, info=dict(controller.record()), value_valid=valid,
                           fallback=fallback[:steps], solver=solver[:steps])
 
+    X_read = X.view()  # its rows are read-only views: what the controller is handed as x_t
+    X_read.flags.writeable = False
+    m_shape = (m,)
     controller.reset()
     start = time.perf_counter()
     with np.errstate(over="ignore", invalid="ignore"):  # divergence is checked (and raised) below
         for t in range(T):
-            xt = X[t]  # a read-only view: X[t] is not written again
-            xt.flags.writeable = False
+            xt = X_read[t]  # a read-only view of x_t (X[t] is not written again)
             obs = Observation(t, xt, wpad[t - 1] if t > 0 else None,
                               wpad[t:t + Mw] if Mw else empty_w,
                               cparams[t:t + Mc] if (cparams is not None and Mc) else None)
@@ -305,12 +307,14 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
             except SolverError as exc:  # the controller gave up: hand back the run so far
                 exc.trajectory = trajectory(t, time.perf_counter() - start)
                 raise
-            try:
-                u = np.asarray(d.u, dtype=float).reshape(m)
-            except (TypeError, ValueError, AttributeError) as exc:
-                raise OrrcValueError(
-                    f"controller {controller.name!r} must return a Decision whose u has m={m} entries; at t={t} "
-                    f"it returned {type(d).__name__} with u of shape {np.shape(getattr(d, 'u', None))}") from exc
+            u = getattr(d, "u", None)
+            if type(u) is not np.ndarray or u.shape != m_shape or u.dtype != float:  # (the fast path: an (m,) array)
+                try:
+                    u = np.asarray(u, dtype=float).reshape(m)
+                except (TypeError, ValueError) as exc:
+                    raise OrrcValueError(
+                        f"controller {controller.name!r} must return a Decision whose u has m={m} entries; at t={t} "
+                        f"it returned {type(d).__name__} with u of shape {np.shape(u)}") from exc
             U[t] = u
             if d.value is not None:
                 V[t] = d.value

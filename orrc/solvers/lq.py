@@ -98,6 +98,18 @@ def solve(A, B, Qs, Rs, x, W, Pf=None):
     return U, X, value
 
 
+_BLAS = []  # the threadpoolctl controller of the loaded BLAS, made on first use
+
+
+def _one_blas_thread():
+    """A context in which numpy's BLAS runs on one thread (threadpoolctl, imported on first use)."""
+    if not _BLAS:
+        from threadpoolctl import ThreadpoolController
+
+        _BLAS.append(ThreadpoolController())
+    return _BLAS[0].limit(limits=1, user_api="blas")
+
+
 class LQPreviewLaw:
     """The exact receding-horizon law of a time-invariant LQ problem with preview M.
 
@@ -166,13 +178,17 @@ class LQPreviewLaw:
 
         X : (k, n); W_windows : (k, M, n). One matrix product per ``chunk`` rows (so the
         temporaries stay at chunk·(n + Mn) numbers whatever k is); each value equals
-        :meth:`value` of its row up to round-off.
+        :meth:`value` of its row up to round-off. The products run on one BLAS thread
+        (threadpoolctl): on a loaded 2-core machine a multi-threaded product of this size waits
+        for its descheduled second thread, and took 12 to 20 ms instead of 2 ms (T = 1000, M = 50, n = 4).
         """
         k = len(X)
         out = np.empty(k)
-        for s in range(0, k, chunk):
-            Z = np.concatenate((X[s:s + chunk], W_windows[s:s + chunk].reshape(len(X[s:s + chunk]), -1)), axis=1)
-            out[s:s + chunk] = np.einsum("ij,ij->i", Z @ self.H, Z)
+        with _one_blas_thread():
+            for s in range(0, k, chunk):
+                Xs = X[s:s + chunk]
+                Z = np.concatenate((Xs, W_windows[s:s + chunk].reshape(len(Xs), -1)), axis=1)
+                out[s:s + chunk] = np.einsum("ij,ij->i", Z @ self.H, Z)
         return out
 
     def input_and_value(self, x, W):
