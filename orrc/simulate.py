@@ -174,6 +174,24 @@ def _nonfinite_report(name, C, sig, V, valid_value):
             "weights, the state or T are too large for floating point; the metrics refuse these values")
 
 
+def _fast_loop(fast, controller, T, m, X, X_read, U, wpad, Mw, step, A, B) -> None:
+    """The closed loop of a controller that offers ``fast_input`` (:mod:`orrc.controllers.base`): the
+    same information (x_t read-only, the preview w_{t:t+M_w-1}), no Observation or Decision per step."""
+    m_shape = (m,)
+    empty_w = wpad[:0]
+    for t in range(T):
+        xt = X_read[t]
+        u = fast(xt, wpad[t:t + Mw] if Mw else empty_w)
+        if type(u) is not np.ndarray or u.shape != m_shape or u.dtype != float:
+            try:
+                u = np.asarray(u, dtype=float).reshape(m)
+            except (TypeError, ValueError) as exc:
+                raise OrrcValueError(f"controller {controller.name!r}: fast_input must return u with m={m} entries; "
+                                     f"at t={t} it returned shape {np.shape(u)}") from exc
+        U[t] = u
+        X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
+
+
 def _batch_values(controller, X, wpad, Mw: int, deferred, V, has_value) -> None:
     """V[t] for the deferred steps t, from one ``controller.values_batch`` call (see
     :mod:`orrc.controllers.base`): the states x_t and the preview windows w_{t:t+M_w-1} (read-only
@@ -295,9 +313,20 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
     X_read.flags.writeable = False
     m_shape = (m,)
     controller.reset()
+    fast = controller.fast_input if (cparams is None or not Mc) else None  # (orrc.controllers.base)
     start = time.perf_counter()
     with np.errstate(over="ignore", invalid="ignore"):  # divergence is checked (and raised) below
-        for t in range(T):
+        if fast is not None:
+            _fast_loop(fast, controller, T, m, X, X_read, U, wpad, Mw, step if not linear else None, A, B)
+            tmpl = controller.fast_decision
+            status[:], solver[:] = [tmpl.status] * T, [tmpl.solver] * T
+            deferred[:] = tmpl.value_deferred
+            if tmpl.value is not None:
+                V[:], has_value[:] = tmpl.value, True
+            if not quad:
+                for t in range(T):
+                    C[t] = stage_cost(X[t], U[t], None if seq is None else cparams[t])
+        for t in range(T if fast is None else 0):
             xt = X_read[t]  # a read-only view of x_t (X[t] is not written again)
             obs = Observation(t, xt, wpad[t - 1] if t > 0 else None,
                               wpad[t:t + Mw] if Mw else empty_w,

@@ -20,6 +20,30 @@ class PerStep(orrc.PreviewRHC):
         return super().control(obs)
 
 
+def test_the_fast_path_is_the_controllers_own_step_and_a_subclass_keeps_its_control(two_masses):
+    """PreviewRHC's exact LQ path offers fast_input (no Observation/Decision per step): the same
+    trajectory as its control(); a subclass that overrides control() is called at every step."""
+    ex, w = two_masses
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 10)
+    assert rhc.fast_input is not None and rhc.fast_decision.value_deferred
+    obs = orrc.Observation(0, ex.x0, None, w[:10], None)
+    np.testing.assert_array_equal(rhc.fast_input(ex.x0, w[:10]), rhc.control(obs).u)
+
+    class Counting(orrc.PreviewRHC):
+        calls = 0
+
+        def control(self, obs):
+            Counting.calls += 1
+            return super().control(obs)
+
+    sub = Counting(ex.system, ex.cost, 10)
+    assert sub.fast_input is None
+    _same(orrc.simulate(ex.system, sub, ex.x0, w, 30), orrc.simulate(ex.system, rhc, ex.x0, w, 30))
+    assert Counting.calls == 30
+    nlp = orrc.PreviewRHC(ex.system, ex.cost, 10, solver="nlp")
+    assert nlp.fast_input is None  # its steps report solves
+
+
 @pytest.fixture(scope="module")
 def two_masses():
     ex = orrc.examples.two_mass_spring()

@@ -11,6 +11,17 @@ for many steps at once may leave it out of the step: it returns ``Decision(value
 last step, with the states and preview windows of every deferred step. The exact LQ path of
 :class:`~orrc.PreviewRHC` does this: V_M(x_t, W_t) = z_tᵀ H z_t for the whole run is one matrix
 product, where one product per step with the (n + Mn)² matrix H was most of the step's time.
+
+**Inputs without the per-step records.** A controller whose steps, on a problem without a cost
+preview, produce nothing but u_t (no solve to report, V_M deferred) may also offer ``fast_input``, a
+callable ``fast_input(x_t, w_preview) -> u_t`` given exactly what an :class:`Observation` would hold
+(the read-only state and the M_w-step preview), and ``fast_decision``, the :class:`Decision` that
+describes every such step (its ``status``, ``solver``, ``value_deferred``; its ``u`` is ignored).
+:func:`orrc.simulate` then calls ``fast_input`` instead of :meth:`Controller.control` and builds no
+Observation or Decision per step (two small objects were a third of the exact LQ path's step). The
+information pattern is the same. A controller offers it only when its own :meth:`control` would
+return that Decision at every such step (:class:`~orrc.PreviewRHC` on its exact LQ path, and not in a
+subclass that overrides ``control``).
 """
 from __future__ import annotations
 
@@ -74,6 +85,9 @@ class Controller:
     preview_c: int = 0
     cost = None
     name = "controller"
+    #: optional: ``fast_input(x, w_preview) -> u`` and the Decision of every such step (module docstring)
+    fast_input = None
+    fast_decision: "Decision | None" = None
 
     def check_run(self, system, T: int) -> None:
         """Refuse a run this controller cannot serve (called by ``simulate`` before the first step).

@@ -158,6 +158,9 @@ class PreviewRHC(Controller):
         self._Pf = Pf
         if self.solver == "lq":
             self._nlp = None
+            if type(self).control is PreviewRHC.control:  # a subclass that overrides control() keeps it
+                self.fast_input = self._fast_lq_input
+                self.fast_decision = Decision(u=None, value_deferred=True, solver="lq")
             if solver_options:
                 warnings.warn(f"solver_options {sorted(solver_options)} are ignored: this problem is solved "
                               "exactly on the LQ path (Riccati recursion), which has no options; pass "
@@ -166,6 +169,11 @@ class PreviewRHC(Controller):
         else:
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
                                     term_fn, solvers=_NLP_LADDERS[self.solver], solver_options=solver_options)
+
+    def _fast_lq_input(self, x, w_preview):
+        """u_t of the exact LQ path for a time-invariant cost: what :meth:`control` returns (the
+        simulator's fast path, :mod:`orrc.controllers.base`)."""
+        return self.law.input(x, w_preview if self.preview_w == self.M else self._pad(w_preview))
 
     @functools.cached_property
     def law(self) -> lq.LQPreviewLaw | None:

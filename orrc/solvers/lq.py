@@ -182,13 +182,15 @@ class LQPreviewLaw:
         (threadpoolctl): on a loaded 2-core machine a multi-threaded product of this size waits
         for its descheduled second thread, and took 12 to 20 ms instead of 2 ms (T = 1000, M = 50, n = 4).
         """
-        k = len(X)
+        k, n = len(X), self.n
         out = np.empty(k)
         with _one_blas_thread():
             for s in range(0, k, chunk):
-                Xs = X[s:s + chunk]
-                Z = np.concatenate((Xs, W_windows[s:s + chunk].reshape(len(Xs), -1)), axis=1)
-                out[s:s + chunk] = np.einsum("ij,ij->i", Z @ self.H, Z)
+                rows = min(chunk, k - s)
+                Z = np.empty((rows, n + self.M * n))  # [x_t, w_t, ..., w_{t+M-1}]: one copy of each window
+                Z[:, :n] = X[s:s + rows]
+                Z[:, n:].reshape(rows, self.M, n)[...] = W_windows[s:s + rows]
+                out[s:s + rows] = np.einsum("ij,ij->i", Z @ self.H, Z)
         return out
 
     def input_and_value(self, x, W):
