@@ -107,8 +107,8 @@ class _Failing:
         self.t, self.guesses, self.plans = None, {}, {}
         real_solve, real_control = rhc._nlp.solve, rhc.control
 
-        def solve(x, W, P, guess_U=None, guess_X=None, solver=None):
-            plan = real_solve(x, W, P, guess_U, guess_X, solver=solver)
+        def solve(x, W, P, guess_U=None, guess_X=None, solver=None, theta=None):
+            plan = real_solve(x, W, P, guess_U, guess_X, solver=solver, theta=theta)
             self.guesses.setdefault(self.t, []).append(None if guess_U is None else guess_U.copy())
             warm = guess_U is not None
             if self.t in self.steps and (self.rung is None or warm) and plan.solver in self.solvers:

@@ -11,12 +11,10 @@ from orrc.controllers import Decision
 
 
 class PerStep(orrc.PreviewRHC):
-    """The LQ path as it was before the batch: u_t and V_M from one product per step."""
+    """The LQ path as it was before the batch: control() at every step, u_t and V_M from one product
+    per step (a subclass that overrides control() keeps it: no fast path)."""
 
     def control(self, obs):
-        if self.solver == "lq" and obs.cost_params is None:
-            u, value = self.law.input_and_value(obs.x, self._pad(obs.w_preview))
-            return Decision(u=u, value=value, solver="lq")
         return super().control(obs)
 
 
@@ -27,7 +25,10 @@ def test_the_fast_path_is_the_controllers_own_step_and_a_subclass_keeps_its_cont
     rhc = orrc.PreviewRHC(ex.system, ex.cost, 10)
     assert rhc.fast_input is not None and rhc.fast_decision.value_deferred
     obs = orrc.Observation(0, ex.x0, None, w[:10], None)
-    np.testing.assert_array_equal(rhc.fast_input(ex.x0, w[:10]), rhc.control(obs).u)
+    step = rhc.control(obs)  # a direct call (e.g. by a controller that wraps this one) reports V_M itself
+    np.testing.assert_allclose(rhc.fast_input(ex.x0, w[:10]), step.u, rtol=1e-14, atol=1e-15)
+    assert step.value == pytest.approx(rhc.values_batch(ex.x0[None], w[None, :10])[0], rel=1e-13)
+    assert not step.value_deferred
 
     class Counting(orrc.PreviewRHC):
         calls = 0

@@ -8,17 +8,18 @@ import casadi as ca
 import numpy as np
 
 from .._validate import OrrcValueError, _describe, as_array, as_int, check_evaluates
-from ..costs import QuadraticCost, StageCost
+from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from ..solvers import lq
 from ..solvers.nlp import IPOPT, NLP_SOLVERS, SOLVER_LABELS, SQP, ShootingNLP
 from ..solvers.plan import Plan, SolverWarning
+from ..solvers.qp import L1QP
 from .base import Controller, Decision, Observation
 from .failures import DEFAULT_MAX_FAILURES, FailureLadder
 
 
 #: the values of ``PreviewRHC(solver=...)``
-SOLVER_CHOICES = ("auto", "lq", "nlp", "sqp", "ipopt")
+SOLVER_CHOICES = ("auto", "lq", "qp", "nlp", "sqp", "ipopt")
 #: the CasADi solvers each NLP choice tries, in order (the rungs of the failure ladder)
 _NLP_LADDERS = {"nlp": NLP_SOLVERS, "sqp": (SQP,), "ipopt": (IPOPT,)}
 
@@ -67,9 +68,10 @@ class PreviewRHC(Controller):
 
     Solvers: a :class:`~orrc.LinearSystem` with a :class:`~orrc.QuadraticCost` and
     no bounds is solved exactly by the Riccati recursion with disturbance
-    feed-forward (``orrc.solvers.lq``); everything else by CasADi (``orrc.solvers.nlp``), built
-    once and warm-started from the shifted previous plan: SQP (CasADi's ``sqpmethod`` with the
-    QP solver ``qrqp``) first, IPOPT when SQP fails.
+    feed-forward (``orrc.solvers.lq``); a LinearSystem with an :class:`~orrc.L1Cost` exactly as
+    one quadratic program (``orrc.solvers.qp``, input bounds allowed); everything else by CasADi
+    (``orrc.solvers.nlp``), built once and warm-started from the shifted previous plan: SQP
+    (CasADi's ``sqpmethod`` with the QP solver ``qrqp``) first, IPOPT when SQP fails.
 
     Parameters
     ----------
@@ -79,10 +81,11 @@ class PreviewRHC(Controller):
     terminal_cost : extension beyond the paper -- a (n, n) PSD matrix Pf (cost x̃ᵀPf x̃
         on x̃_{t+M}) or a callable in CasADi operations. The paper has none.
     state_bounds : extension beyond the paper -- (lo, hi) box on x̃_{t+1..t+M} (CasADi path).
-    solver : "auto" (default: "lq" where the problem allows it, else "nlp"), "lq" (the exact
-        Riccati law), "nlp" (CasADi: SQP, then IPOPT as the fallback when SQP fails), "sqp" (SQP
-        alone) or "ipopt" (IPOPT alone). Each step reports the solver that produced it
-        (``Plan.solver``, ``Decision.solver``, ``Trajectory.solver``: "lq", "sqp" or "ipopt").
+    solver : "auto" (default: "lq" or "qp" where the problem allows it, else "nlp"), "lq" (the exact
+        Riccati law), "qp" (the exact QP of an L1Cost), "nlp" (CasADi: SQP, then IPOPT as the
+        fallback when SQP fails), "sqp" (SQP alone) or "ipopt" (IPOPT alone). Each step reports the
+        solver that produced it (``Plan.solver``, ``Decision.solver``, ``Trajectory.solver``: "lq",
+        "qrqp", "sqp" or "ipopt").
     solver_options : extra options for the CasADi solvers: keys "sqpmethod.*" for SQP (e.g.
         {"sqpmethod.max_iter": 20}), "ipopt.*" for IPOPT (e.g. {"ipopt.max_iter": 100}), other
         keys for both (``orrc.solvers.nlp``); options for a solver that is not used, and any
@@ -95,6 +98,9 @@ class PreviewRHC(Controller):
         certainty-equivalence MPC. On the LQ path the law is exact: the feed-forward columns of
         the unseen disturbances are dropped (u = -Kx - L[:, :kn] vec(w_t..w_{t+k-1})). The
         lemmas and Theorem 1 assume k = M (``orrc.checks`` refuse a trajectory with k < M).
+    theta : for a :class:`~orrc.ParametricSystem` model f(·; θ), the parameter value to plan
+        with (Algorithm 2 plans with its estimate θ̂). It is a parameter of the CasADi NLP:
+        :meth:`set_theta` changes it without rebuilding the solver.
 
     Solver failures (NLP path) follow :mod:`orrc.controllers.failures`: a failed solve is retried
     from a cold start, then (solver="nlp") with IPOPT; if that fails too, the step applies the
@@ -114,7 +120,7 @@ class PreviewRHC(Controller):
 
     def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
                  terminal_cost=None, state_bounds=None, solver: str = "auto", solver_options=None,
-                 max_failures: int | None = DEFAULT_MAX_FAILURES, preview_w: int | None = None):
+                 max_failures: int | None = DEFAULT_MAX_FAILURES, preview_w: int | None = None, theta=None):
         if not isinstance(system, System):
             raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
         if not isinstance(cost, StageCost):
@@ -155,6 +161,21 @@ class PreviewRHC(Controller):
                 "solver='lq' needs a LinearSystem, a QuadraticCost, no input/state bounds and a "
                 "quadratic (matrix) terminal cost or none; use solver='nlp' or 'auto'")
         self.solver = ("lq" if lq_ok else "nlp") if solver == "auto" else solver
+        # an ℓ1 state cost on a linear system: one exact QP per step (orrc.solvers.qp)
+        qp_ok = (isinstance(system, LinearSystem) and isinstance(cost, L1Cost) and self.state_bounds is None
+                 and terminal_cost is None)
+        if solver == "qp" and not qp_ok:
+            raise OrrcValueError("solver='qp' needs a LinearSystem, an L1Cost, no state bounds and no terminal cost")
+        if solver == "auto" and qp_ok:
+            self.solver = "qp"
+        self.theta = None
+        if getattr(system, "n_params", 0):  # a ParametricSystem: θ is a parameter of the NLP
+            if theta is None:
+                raise OrrcValueError(f"theta is required for a ParametricSystem model ({system.name}): the "
+                                     f"value of its {system.n_params} parameters to plan with")
+            self.theta = system.check_theta(theta)
+        elif theta is not None:
+            raise OrrcValueError(f"theta is only for a ParametricSystem model; {system.name} has no parameters")
         self._Pf = Pf
         if self.solver == "lq":
             self._nlp = None
@@ -166,6 +187,8 @@ class PreviewRHC(Controller):
                               "exactly on the LQ path (Riccati recursion), which has no options; pass "
                               "solver='nlp' to solve it with CasADi (SQP, IPOPT as the fallback) instead",
                               UserWarning, stacklevel=2)
+        elif self.solver == "qp":
+            self._nlp = L1QP(system.A, system.B, cost.q, cost.R, self.M, self.input_bounds)
         else:
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
                                     term_fn, solvers=_NLP_LADDERS[self.solver], solver_options=solver_options)
@@ -252,7 +275,7 @@ class PreviewRHC(Controller):
             if warm is not None:
                 plan.inputs, plan.states, plan.fallback = warm[0], np.vstack([x, warm[1][1:]]), \
                     "the warm start, shifted"
-            warnings.warn(f"PreviewRHC.plan: the NLP solve ({SOLVER_LABELS[plan.solver]}) did not succeed ({plan.status}); "
+            warnings.warn(f"PreviewRHC.plan: the solve ({SOLVER_LABELS.get(plan.solver, plan.solver)}) did not succeed ({plan.status}); "
                           f"the plan holds {plan.fallback} (plan.success is False)", SolverWarning, stacklevel=2)
         return plan
 
@@ -278,18 +301,29 @@ class PreviewRHC(Controller):
         """The ways of solving one M-step problem on the NLP path, in the order the failure ladder
         tries them: the first solver (SQP on the default path) from the warm start (when there is
         one), then from a cold start; then each further solver (IPOPT) once, from the warm start
-        when there is one, else cold."""
+        when there is one, else cold. (The exact QP of an ℓ1 cost needs no guess: one rung.)"""
+        if self.solver == "qp":
+            return [("exact QP", lambda: self._nlp.solve(x, W))]
         first, *more = self._nlp.solvers
         guess = warm  # (inputs, states x̃_0..x̃_M); the solver replaces x̃_0 by x
+        theta = self.theta  # a ParametricSystem's θ̂, an NLP parameter (None otherwise)
 
         def rung(solver, start):
             label = f"{SOLVER_LABELS[solver]} {'warm' if start else 'cold'} start"
-            return label, lambda: self._nlp.solve(x, W, P, *(start or (None, None)), solver=solver)
+            return label, lambda: self._nlp.solve(x, W, P, *(start or (None, None)), solver=solver, theta=theta)
 
         rungs = [rung(first, guess)] if guess is not None else []
         rungs.append(rung(first, None))
         rungs += [rung(solver, guess) for solver in more]
         return rungs
+
+    def set_theta(self, theta) -> None:
+        """Plan with the model parameters θ from now on (a ParametricSystem model; no solver rebuild).
+        The previous plans were made with another model: the warm start is forgotten."""
+        if self.theta is None:
+            raise OrrcValueError(f"set_theta needs a ParametricSystem model; {self.system.name} has no parameters")
+        self.theta = self.system.check_theta(theta)
+        self._ladder.reset()
 
     # -- the controller -----------------------------------------------------------
     def reset(self) -> None:
@@ -297,8 +331,11 @@ class PreviewRHC(Controller):
 
     def control(self, obs: Observation) -> Decision:
         W = obs.w_preview if self.preview_w == self.M else self._pad(obs.w_preview)
-        if self.solver == "lq" and obs.cost_params is None:  # V_M after the run: values_batch
-            return Decision(u=self.law.input(obs.x, W), value_deferred=True, solver="lq")
+        if self.solver == "lq" and obs.cost_params is None:
+            # (orrc.simulate takes the fast path instead, fast_input, with V_M from values_batch;
+            # a controller that wraps this one gets V_M at each step, as it always did)
+            u, value = self.law.input_and_value(obs.x, W)
+            return Decision(u=u, value=value, solver="lq")
         P = self._default_P if obs.cost_params is None else obs.cost_params
         x, invariant = obs.x, obs.cost_params is None
         if self.solver == "lq":
@@ -311,8 +348,9 @@ class PreviewRHC(Controller):
                         fallback=plan.fallback, solver=plan.solver)
 
     def values_batch(self, X, W_windows):
-        """V_M(x_t, W_t) of the steps the exact LQ path deferred (:meth:`control` with a time-invariant
-        cost): one matrix product over the whole run (:meth:`orrc.solvers.lq.LQPreviewLaw.values`).
+        """V_M(x_t, W_t) of the steps the exact LQ path deferred (the simulator's fast path,
+        :attr:`fast_input`, with a time-invariant cost): one matrix product over the whole run
+        (:meth:`orrc.solvers.lq.LQPreviewLaw.values`).
 
         X : (k, n) states; W_windows : (k, preview_w, n) their preview windows. Returns (k,).
         """

@@ -6,7 +6,9 @@
 is transcribed once per (system, cost family, M) by multiple shooting; the parameters of the
 compiled problem are (x, vec W, vec P): the previewed state, disturbances and cost parameters.
 Each call starts from the given guess (the receding-horizon controller passes its shifted
-previous plan) or from a cold start. Two CasADi solvers can be built on the same transcription:
+previous plan) or from a cold start. A model with parameters θ (an :class:`orrc.ParametricSystem`,
+``n_params > 0``) appends θ to the parameters, (x, vec W, vec P, θ): Algorithm 2 solves on
+f(·; θ̂), and a new estimate θ̂ is a new parameter value, not a new solver. Two CasADi solvers can be built on the same transcription:
 
 * ``"sqp"`` -- CasADi's ``sqpmethod`` with its QP solver ``qrqp`` (both ship with the casadi
   wheel): a sequential-quadratic-programming method with the exact Hessian of the Lagrangian,
@@ -170,12 +172,15 @@ class ShootingNLP(DropsBuffers):
                  state_bounds=None, terminal=None, solvers=NLP_SOLVERS, solver_options=None):
         n, m, npar = system.n, system.m, cost.n_params
         self.M, self.n, self.m = M, n, m
+        self.n_theta = int(getattr(system, "n_params", 0) or 0)   # model parameters θ (ParametricSystem)
+        theta = ca.SX.sym("theta", self.n_theta)
+        model = (lambda x, u, w: system.symbolic(x, u, w, theta)) if self.n_theta else system.symbolic
         self.solvers = tuple(solvers)
         if not self.solvers or any(s not in NLP_SOLVERS for s in self.solvers):
             raise OrrcValueError(f"solvers must be a non-empty sequence of {NLP_SOLVERS}; got {solvers!r}")
         x1, u1, w1, p1 = ca.SX.sym("x", n), ca.SX.sym("u", m), ca.SX.sym("w", n), ca.SX.sym("p", npar)
-        stage_nodes = ca.Function("stage", [x1, u1, w1, p1],
-                                  [system.symbolic(x1, u1, w1), cost.expr(x1, u1, p1)]).n_nodes()
+        stage_nodes = ca.Function("stage", [x1, u1, w1, p1, theta],
+                                  [model(x1, u1, w1), cost.expr(x1, u1, p1)]).n_nodes()
         per_interval = stage_nodes + 4 * (n + m + npar)
         check_size(f"the CasADi transcription of the M-step problem at the horizon M={M} (n={n}, m={m})",
                    nbytes=M * per_interval * 400.0 * len(self.solvers),
@@ -192,18 +197,18 @@ class ShootingNLP(DropsBuffers):
         J_roll, xr, X_roll = 0, x0, []  # the same cost along a rollout of U (single shooting)
         for j in range(M):
             J += cost.expr(xj, U[:, j], Pp[:, j])
-            g.append(X[:, j] - system.symbolic(xj, U[:, j], W[:, j]))
+            g.append(X[:, j] - model(xj, U[:, j], W[:, j]))
             xj = X[:, j]
             J_roll += cost.expr(xr, U[:, j], Pp[:, j])
-            xr = system.symbolic(xr, U[:, j], W[:, j])
+            xr = model(xr, U[:, j], W[:, j])
             X_roll.append(xr)
         if terminal is not None:
             J += terminal(xj)
             J_roll += terminal(xr)
         z = ca.vertcat(ca.vec(U), ca.vec(X))
-        p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp))
+        p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp), theta)
         problem = {"x": z, "f": J, "g": ca.vertcat(*g), "p": p}
-        self.problem = problem  # the transcription: z = [vec U; x̃_1..x̃_M], p = [x; vec W; vec P], g = 0
+        self.problem = problem  # the transcription: z = [vec U; x̃_1..x̃_M], p = [x; vec W; vec P; θ], g = 0
         opts, unused = _split_options(solver_options, self.solvers)
         if unused:
             warnings.warn(f"solver_options {sorted(unused)} are ignored: they are for a solver this controller does "
@@ -242,8 +247,9 @@ class ShootingNLP(DropsBuffers):
         ~3500 vs ~205.)"""
         return self._cold_U.copy(), np.tile(x, (self.M, 1))
 
-    def solve(self, x, W, P, guess_U=None, guess_X=None, solver: str | None = None) -> Plan:
-        """Solve from state x (n,) with preview W (M, n) and cost parameters P (M, n_params).
+    def solve(self, x, W, P, guess_U=None, guess_X=None, solver: str | None = None, theta=None) -> Plan:
+        """Solve from state x (n,) with preview W (M, n) and cost parameters P (M, n_params);
+        ``theta`` (n_theta,): the model parameters, for a ParametricSystem (else None).
 
         ``solver``: one of :attr:`solvers` (default the first). No guess: a cold start
         (:meth:`cold_start`). On failure (no convergence, a CasADi error inside the solver, a
@@ -262,7 +268,10 @@ class ShootingNLP(DropsBuffers):
         call = self._call(solver)
         z0, p = call.args[0], call.args[1]  # written in place: the guess [vec U; x̃_1..x̃_M], the parameters
         z0[: M * m], z0[M * m:] = guess_U.reshape(-1), guess_next.reshape(-1)
-        p[:n], p[n:n + M * n], p[n + M * n:] = x, W.reshape(-1), P.reshape(-1)
+        k = n + M * n + P.size
+        p[:n], p[n:n + M * n], p[n + M * n:k] = x, W.reshape(-1), P.reshape(-1)
+        if self.n_theta:
+            p[k:] = theta
         t0 = time.perf_counter()
         try:
             error = call()
