@@ -239,6 +239,12 @@ class ShootingNLP(DropsBuffers):
         """The first solver a controller tries."""
         return self.solvers[0]
 
+    @property
+    def solver(self) -> ca.Function:
+        """The CasADi ``nlpsol`` of the first solver (built once: a new θ̂ or preview is a new parameter
+        value, not a new solver; the unknown-systems chapter checks this)."""
+        return self._nlpsol[self.solvers[0]]
+
     def cold_start(self, x) -> tuple[np.ndarray, np.ndarray]:
         """The cold-start guess (inputs (M, m), states x̃_1..x̃_M (M, n)): zero inputs clipped to the
         bounds, the state held at x over the horizon. (A rollout of the guessed inputs falls away
