@@ -19,11 +19,17 @@ One module per kind of result:
   disturbance that attains it; :func:`worst_case_attenuation_limit`, its T → ∞ limit:
   the squared H∞ norm of the closed loop from w to the cost output (python-control).
 
+* :mod:`orrc.certify.minmax` -- :func:`minmax_constants`, the constants ᾱ_W, γ̄_W of Appendix D
+  (no disturbance preview): certified for a linear-quadratic problem without input bounds (a
+  Pareto curve from the nominal plan plus the min-max plan from x = 0), sampled estimates otherwise.
+
 SciPy is imported inside the functions that use it, so that ``import orrc`` does not load it.
 """
 from .attenuation import Attenuation, worst_case_attenuation, worst_case_attenuation_limit
 from .constants import Constants, alpha_hi_floor, lq_constants, smallest_certified_M
+from .minmax import MinMaxConstants, minmax_constants
 from .sampled import sampled_constants
 
 __all__ = ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
-           "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit"]
+           "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit", "MinMaxConstants",
+           "minmax_constants"]

@@ -1,4 +1,5 @@
 """Solvers of the M-step problems. They know nothing of time: x, W, costs in, plan out."""
+from .minmax import MinMaxPlan
 from .plan import Plan
 
-__all__ = ["Plan"]
+__all__ = ["Plan", "MinMaxPlan"]
