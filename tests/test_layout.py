@@ -11,17 +11,19 @@ import pytest
 PUBLIC = {
     "orrc.theory": ["horizon_threshold", "above_threshold", "min_decay_rate", "decay_b", "Gamma_V",
                     "Gamma_V_gamma", "lemma2_coefficients", "lemma2_bound", "gamma_c", "theorem1_constant",
-                    "gamma_tilde", "gamma_c_remark"],
+                    "gamma_tilde", "gamma_c_remark", "Gamma_WV", "Gamma_WV_gamma", "horizon_threshold_W",
+                    "min_decay_rate_W", "decay_b_W", "gamma_c_W", "theorem3_constant"],
     "orrc.certify": ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
-                     "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit"],
+                     "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit", "MinMaxConstants",
+                     "minmax_constants"],
     "orrc.checks": ["Margins", "Lemma1Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
-                    "theorem1_margin"],
+                    "theorem1_margin", "minmax_value_bound_margins", "lemma6_margins", "theorem3_margin"],
 }
 
 SECTIONS = {
-    "orrc.theory": ["known"],
-    "orrc.certify": ["constants", "sampled", "attenuation"],
-    "orrc.checks": ["known"],
+    "orrc.theory": ["known", "nopreview"],
+    "orrc.certify": ["constants", "sampled", "attenuation", "minmax"],
+    "orrc.checks": ["known", "nopreview"],
 }
 
 

@@ -75,9 +75,11 @@ class MinMaxConstants(Constants):
     def gamma_c_W(self) -> float:
         return self.gamma_c
 
-    def bound(self, sigma, w_energy=None) -> float:
-        """ᾱ_W σ(x) + γ̄_W max‖w‖² (``w_energy`` defaults to ``w_max_sq``)."""
-        return float(self.alpha_hi * sigma + self.gamma_bar * (self.w_max_sq if w_energy is None else w_energy))
+    def bound(self, sigma, w_energy=None):
+        """ᾱ_W σ(x) + γ̄_W max‖w‖² (``w_energy`` defaults to ``w_max_sq``); σ a number or an array."""
+        out = self.alpha_hi * np.asarray(sigma, float) + self.gamma_bar * (self.w_max_sq if w_energy is None
+                                                                          else w_energy)
+        return float(out) if out.ndim == 0 else out
 
     def __repr__(self):
         kind = "estimated" if self.estimate else "certified"

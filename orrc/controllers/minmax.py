@@ -198,8 +198,8 @@ class MinMaxRHC(Controller):
     def control(self, obs: Observation) -> Decision:
         if obs.w_preview is not None and np.size(obs.w_preview):
             raise OrrcValueError(
-                f"MinMaxRHC got a disturbance preview of shape {np.shape(obs.w_preview)}; Algorithm 3 sees no future "
-                "disturbance (preview_w = 0)")
+                f"MinMaxRHC got a disturbance preview of shape {np.shape(obs.w_preview)}; Algorithm 3 has no "
+                "disturbance preview (preview_w = 0): it plans against every sequence in W")
         P = None if obs.cost_params is None else obs.cost_params[: self.M]
         plan = self._solve(obs.x, P, self._prev)
         self._prev = plan
