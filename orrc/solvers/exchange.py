@@ -108,14 +108,14 @@ class ScenarioExchange:
         self._d = n * (M - 1)                    # the coordinates of w_0..w_{M-2} (w_{M-1} is not costed)
         # batched evaluations (one CasADi call per ascent step: the call overhead dominates on these
         # small problems): J and ∂J/∂W for n_starts or n_verify sequences, and J alone for the single
-        # flips (box only) of the best n_flip local maxima of a search, or of all n_verify of them in
-        # the wider search that confirms convergence
+        # flips (box only) of the best n_flip local maxima of a search, or of the best n_starts in the
+        # wider search that confirms convergence
         self.n_verify = verify_factor * n_starts
         self.n_flip = min(2, n_starts)
         self._JG_maps = {k: self._JG.map(k, "serial") for k in {n_starts, self.n_verify}}
         self._J_maps = {}
         if isinstance(W, Box) and self._d:
-            self._J_maps = {k: self._J.map(k * self._d, "serial") for k in {self.n_flip, self.n_verify}}
+            self._J_maps = {k: self._J.map(k * self._d, "serial") for k in {self.n_flip, n_starts}}
         self._outer = {}
         ulo, uhi = (np.full(m, -np.inf), np.full(m, np.inf)) if input_bounds is None else input_bounds
         self.lbz = np.concatenate([np.tile(ulo, M), [-np.inf]])
@@ -276,9 +276,9 @@ class ScenarioExchange:
         return self._search(x, U, P, starts, self.n_flip)
 
     def _verify(self, x, U, P, rng):
-        """The wider search that confirms convergence: n_verify random starts, every local maximum
-        refined by flips (box)."""
-        return self._search(x, U, P, self._random_starts(rng, self.n_verify), self.n_verify)
+        """The wider search that confirms convergence: n_verify random starts, the best n_starts local
+        maxima refined by flips (box)."""
+        return self._search(x, U, P, self._random_starts(rng, self.n_verify), self.n_starts)
 
     # -- the exchange loop -----------------------------------------------------------------------
     def _distinct(self, W, S) -> bool:
