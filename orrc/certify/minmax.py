@@ -21,7 +21,8 @@ every x, with V_{W,M} the min-max value of Algorithm 3. Unlike the preview value
   a feasible plan from x = 0), which is also certified.
 
   How tight it is: the exact V_{W,M}(x) at sampled x (``info["samples"]``) gives a *lower* curve
-  ᾱ_W(γ̄_W) >= max_i (V_i - γ̄_W w̄²)/σ(x_i) (``info["lower_pareto"]``); the true curve lies between.
+  ᾱ_W(γ̄_W) >= max(λ_max(P_0), max_i (V_i - γ̄_W w̄²)/σ(x_i)) (``info["lower_pareto"]``; V_{W,M}(x) >=
+  V_M(x, 0) = xᵀP_0x); the true curve lies between.
 * **estimated** otherwise (nonlinear dynamics, input bounds, other costs): V_{W,M} at sampled x by
   :class:`~orrc.MinMaxRHC` and the sampled curve, labelled ``estimate=True`` (lower bounds on the
   true constants, valid only in the sampled region).
@@ -200,8 +201,9 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
     gbs = g0 * (1.0 + np.geomspace(1e-4, 1e6, grid)) if certified else np.geomspace(g0, 1e3 * g0 + 1e-300, grid)
     ahs, gcs, best = _best_on_curve(M, alpha_lo, curve, gbs)
     pareto = np.column_stack([gbs, ahs])
-    if certified:
-        info["lower_pareto"] = np.column_stack([gbs, [max(lower_curve(g), alpha_lo) if g >= lower_curve.gamma_min
+    if certified:   # the samples' curve, and ᾱ_W >= λ_max(P_0) (V_(W,M)(x) >= xᵀP_0x, the limit of large x)
+        floor = max(info["alpha_hi_inf"], alpha_lo)
+        info["lower_pareto"] = np.column_stack([gbs, [max(lower_curve(g), floor) if g >= lower_curve.gamma_min
                                                       else math.nan for g in gbs]])
     if best is not None:
         gc, a, ah, gb = best
