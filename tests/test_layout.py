@@ -18,6 +18,10 @@ PUBLIC = {
                      "minmax_constants"],
     "orrc.checks": ["Margins", "Lemma1Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
                     "theorem1_margin", "minmax_value_bound_margins", "lemma6_margins", "theorem3_margin"],
+    "orrc": ["OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning", "MinMaxRHC"],
+    "orrc.solvers": ["Plan", "MinMaxPlan", "SolverWarning", "SolverError"],
+    "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "MinMaxRHC", "LQR", "Clairvoyant",
+                         "ZeroInput", "FailureLadder"],
 }
 
 SECTIONS = {

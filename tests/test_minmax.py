@@ -258,7 +258,7 @@ def test_closed_loop_records_bounds_and_worst_cases_per_step():
     assert info["method"] == "exact"
     for key in ("lower", "upper", "gap", "iterations", "scenarios", "evaluations", "certified"):
         assert info[key].shape == (T,), key
-    assert info["worst_w"].shape == (T, M, 1) and W.contains(info["worst_w"])
+    assert info["worst_w"].shape == (T, M, 1) and W.contains(info["worst_w"].reshape(-1, 1))
     np.testing.assert_allclose(traj.values, info["upper"])
     assert np.all(info["gap"] <= 1e-9 * info["upper"]) and info["certified"].all()
     # the same run with scenario exchange: the same values within its tolerance
@@ -283,8 +283,48 @@ def test_time_varying_costs_reach_both_methods_alike():
 def test_a_solve_that_does_not_converge_is_reported_and_contained(pendulum):
     rhc = orrc.MinMaxRHC(pendulum.system, pendulum.cost, 10, orrc.Ball(0.1, 2), input_bounds=pendulum.input_bounds,
                          exchange_options={"max_iter": 1})
-    with pytest.warns(orrc.SolverWarning, match="scenario exchange"):
+    with pytest.warns(orrc.SolverWarning, match="min-max solve did not succeed") as record:
         p = rhc.plan(np.zeros(2))
-    assert not p.success and "no convergence" in p.status
+    assert len(record) == 1
+    assert not p.success and "no convergence" in p.status and p.fallback
     assert np.all(np.isfinite(p.inputs)) and p.lower <= p.upper
     assert isinstance(p, MinMaxPlan)
+
+
+def test_failed_steps_climb_the_failure_ladder_in_closed_loop(pendulum):
+    """A step that fails from the warm start is retried cold; failed steps are marked, the shifted
+    successful plan is applied, simulate warns once, and three failures in a row stop the run."""
+    W = orrc.Ball(0.1, 2)
+    good = orrc.MinMaxRHC(pendulum.system, pendulum.cost, 6, W, input_bounds=pendulum.input_bounds)
+    w = W.sample(8, 0)
+    ref = orrc.simulate(pendulum.system, good, pendulum.x0, w, 6)
+    assert ref.success.all()
+    flaky = orrc.MinMaxRHC(pendulum.system, pendulum.cost, 6, W, input_bounds=pendulum.input_bounds,
+                           max_failures=None)
+    real = flaky._solver.solve
+    calls = {"n": 0}
+
+    def fail_at_step_2(x, P, guess_U=None, scenarios=None):
+        calls["n"] += 1
+        p = real(x, P, guess_U, scenarios)
+        if len(flaky._log) == 2:                                     # both rungs of step t = 2 fail
+            p.success, p.status = False, "forced failure"
+        return p
+
+    flaky._solver.solve = fail_at_step_2
+    with pytest.warns(orrc.SolverWarning) as record:
+        traj = orrc.simulate(pendulum.system, flaky, pendulum.x0, w, 6)
+    assert len([r for r in record if issubclass(r.category, orrc.SolverWarning)]) == 1
+    assert list(traj.success) == [True, True, False, True, True, True]
+    assert "forced failure" in traj.status[2]
+    np.testing.assert_allclose(traj.u[2], flaky._log[1].inputs[1])     # the step-1 plan, shifted by one
+    stubborn = orrc.MinMaxRHC(pendulum.system, pendulum.cost, 6, W, input_bounds=pendulum.input_bounds)
+    stubborn._solver.solve = lambda *a, **k: _failed(real(*a, **k))
+    with pytest.raises(orrc.SolverError, match="3 consecutive"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        orrc.simulate(pendulum.system, stubborn, pendulum.x0, w, 6)
+
+
+def _failed(p):
+    p.success, p.status = False, "forced failure"
+    return p

@@ -17,7 +17,7 @@ every x, with V_{W,M} the min-max value of Algorithm 3. Unlike the preview value
   ᾱ_W = λ_max(P_0 + ε F Fᵀ), γ̄_W = V_{W,M}(0)/w̄² + (M-1)/ε is admissible: a certified Pareto
   curve, from γ̄_W → V_{W,M}(0)/w̄² (where ᾱ_W → ∞) to ᾱ_W → λ_max(P_0) (where γ̄_W → ∞), the same
   two ends as the true curve. V_{W,M}(0) is computed exactly by the vertex method for a box W
-  (when its vertex sequences are few enough), else bounded by λ_max(G_wᵀQ̄G_w)(M-1)w̄² (U = 0 is
+  (when its vertex sequences number at most ``EXACT_LIMIT`` = 2^18), else bounded by λ_max(G_wᵀQ̄G_w)(M-1)w̄² (U = 0 is
   a feasible plan from x = 0), which is also certified.
 
   How tight it is: the exact V_{W,M}(x) at sampled x (``info["samples"]``) gives a *lower* curve
@@ -51,6 +51,9 @@ from .constants import Constants, _knee
 from .sampled import _SampledCurve
 
 __all__ = ["MinMaxConstants", "minmax_constants"]
+
+#: the most vertex sequences for which V_{W,M} is computed by the exact method here (else exchange)
+EXACT_LIMIT = 2 ** 18
 
 
 @dataclass(repr=False)
@@ -155,7 +158,7 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
     grid : points of the Pareto curve.
     """
     from ..controllers.minmax import MinMaxRHC
-    from ..solvers.minmax import MAX_SEQUENCES, check_set, vertex_count
+    from ..solvers.minmax import check_set, vertex_count
 
     if not isinstance(system, System):
         raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
@@ -176,7 +179,7 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
     alpha_lo = float(cost.alpha_lo)
     rng = _rng(seed)
     certified = isinstance(system, LinearSystem) and isinstance(cost, QuadraticCost) and input_bounds is None
-    rhc_method = "exact" if (certified and isinstance(W, Box) and vertex_count(W, M) <= MAX_SEQUENCES) else "auto"
+    rhc_method = "exact" if (certified and isinstance(W, Box) and vertex_count(W, M) <= EXACT_LIMIT) else "auto"
     rhc = MinMaxRHC(system, cost, M, W, input_bounds=input_bounds, method=rhc_method, seed=seed)
     top = x_radius if x_radius is not None else (1e4 * math.sqrt(w2) if certified else 1.0)
     xs = _samples(system.n, n_samples, top, rng)

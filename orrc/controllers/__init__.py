@@ -1,7 +1,10 @@
-"""Controllers: Algorithm 1 (PreviewRHC), Algorithm 3 (MinMaxRHC) and the baselines."""
+"""Controllers: Algorithm 1 (PreviewRHC), Algorithm 3 (MinMaxRHC) and the baselines, and the escalation
+policy on solver failure (:mod:`orrc.controllers.failures`, shared by every receding-horizon controller)."""
 from .base import Controller, Decision, Observation
 from .baselines import LQR, Clairvoyant, ZeroInput
+from .failures import FailureLadder
 from .minmax import MinMaxRHC
 from .preview import PreviewRHC
 
-__all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "MinMaxRHC", "LQR", "Clairvoyant", "ZeroInput"]
+__all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "MinMaxRHC", "LQR", "Clairvoyant", "ZeroInput",
+           "FailureLadder"]

@@ -1,14 +1,18 @@
 """Algorithm 3 (Appendix D of the paper): min-max receding-horizon control, no disturbance preview."""
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from ..costs import QuadraticCost, StageCost
 from ..disturbances import Box
 from ..systems import LinearSystem, System
-from ..solvers.minmax import AUTO_EXACT_LIMIT, MAX_SEQUENCES, MinMaxPlan, VertexEpigraph, check_set, vertex_count
+from ..solvers.minmax import AUTO_EXACT_LIMIT, MinMaxPlan, VertexEpigraph, check_set, vertex_count
+from ..solvers.plan import SolverWarning
 from .base import Controller, Decision, Observation
+from .failures import DEFAULT_MAX_FAILURES, FailureLadder
 from .preview import _bounds
 
 METHODS = ("auto", "exact", "exchange", "game")
@@ -45,23 +49,27 @@ class MinMaxRHC(Controller):
 
     tol : relative tolerance on upper - lower (default 1e-9 exact, 1e-6 exchange).
     gamma : the game's penalty level (method="game" only).
-    max_sequences : the exact method's size guard (vertex sequences).
     seed : seed of the exchange's random starts.
     exchange_options : extra keywords of ``ScenarioExchange`` (max_iter, n_starts, max_scenarios,
-        solver, solver_options, verify_factor).
+        solver, solver_options, verify_factor, atol).
+    max_failures : consecutive failed steps before :class:`~orrc.SolverError` (the failure ladder of
+        :mod:`orrc.controllers.failures`; None: never stop).
 
-    A closed loop (``orrc.simulate``) warm-starts each step from the previous one (the inputs and
-    the active scenarios or vertex sequences, shifted one stage) and records, per step, the
+    A closed loop (``orrc.simulate``) warm-starts each step from the last successful plan (its
+    inputs and its active scenarios or vertex sequences, shifted) and records, per step, the
     bounds, the iterations, the scenario and evaluation counts and the worst-case disturbance
-    sequence found (``Trajectory.info``, from :meth:`record`). A solve that does not succeed is
-    reported (``success=False``, a :class:`~orrc.SolverWarning`) and its best plan applied.
+    sequence found (``Trajectory.info``, from :meth:`record`). A failed solve climbs the failure
+    ladder shared by the receding-horizon controllers: a cold retry, then the shifted last
+    successful plan, then :class:`~orrc.SolverError`; ``orrc.simulate`` warns once per run. A direct
+    :meth:`plan` call that fails warns once (:class:`~orrc.SolverWarning`) and returns the best plan
+    found with ``success=False``.
     """
 
     name = "min-max RHC"
 
     def __init__(self, system: System, cost: StageCost, M: int, W, input_bounds=None, method: str = "auto",
-                 tol: float | None = None, gamma: float | None = None, max_sequences: int = MAX_SEQUENCES,
-                 seed=0, exchange_options: dict | None = None):
+                 tol: float | None = None, gamma: float | None = None, seed=0, exchange_options: dict | None = None,
+                 max_failures: int | None = DEFAULT_MAX_FAILURES):
         if not isinstance(system, System):
             raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
         if not isinstance(cost, StageCost):
@@ -74,7 +82,6 @@ class MinMaxRHC(Controller):
         self.input_bounds = _bounds("input_bounds", input_bounds, system.m)
         if method not in METHODS:
             raise OrrcValueError(f"method must be one of {list(METHODS)}; got {method!r}")
-        max_sequences = as_int("max_sequences", max_sequences, minimum=1)
         if exchange_options is not None and not isinstance(exchange_options, dict):
             raise OrrcValueError(f"exchange_options must be a dict; got {type(exchange_options).__name__}")
         lq = isinstance(system, LinearSystem) and isinstance(cost, QuadraticCost)
@@ -88,8 +95,7 @@ class MinMaxRHC(Controller):
             raise OrrcValueError("method='game' (the soft-constrained LQ game) needs a LinearSystem, a QuadraticCost "
                                  "and no input bounds")
         if method == "auto":
-            method = "exact" if exact_ok and vertex_count(self.W, self.M) <= min(AUTO_EXACT_LIMIT, max_sequences) \
-                else "exchange"
+            method = "exact" if exact_ok and vertex_count(self.W, self.M) <= AUTO_EXACT_LIMIT else "exchange"
         self.method = method
         self.seed = seed
         if tol is not None:
@@ -97,7 +103,7 @@ class MinMaxRHC(Controller):
         self.gamma = None
         self._solver = None
         if method == "exact":
-            self._solver = VertexEpigraph(system, cost, self.M, self.W, self.input_bounds, max_sequences,
+            self._solver = VertexEpigraph(system, cost, self.M, self.W, self.input_bounds,
                                           rtol=1e-9 if tol is None else tol)
         elif method == "exchange":
             from ..solvers.exchange import ScenarioExchange
@@ -112,6 +118,7 @@ class MinMaxRHC(Controller):
             from ..solvers import game
 
             self._game = game.finite_horizon_game(system.A, system.B, cost.Q, cost.R, self.gamma, self.M)
+        self._ladder = FailureLadder(self.M, max_failures, name=self.name)
         self.reset()
 
     # -- the M-step problem -------------------------------------------------------
@@ -152,20 +159,36 @@ class MinMaxRHC(Controller):
         x = as_array("x", x, (self.system.n,))
         if warm_start is not None and not isinstance(warm_start, MinMaxPlan):
             raise OrrcValueError(f"warm_start must be a MinMaxPlan from MinMaxRHC.plan; got {type(warm_start).__name__}")
-        return self._solve(x, self._params(cost_params), warm_start)
+        P = self._params(cost_params)
+        plan = FailureLadder.attempt(self._rungs(x, P, warm_start, 1))
+        if not plan.success:
+            plan.fallback = "the best plan the solver found"
+            warnings.warn(f"MinMaxRHC.plan: the {self.method} min-max solve did not succeed ({plan.status}); the plan "
+                          f"holds {plan.fallback} (plan.success is False)", SolverWarning, stacklevel=2)
+        return plan
 
-    def _solve(self, x, P, prev: MinMaxPlan | None) -> MinMaxPlan:
+    def _rungs(self, x, P, prev: MinMaxPlan | None, k: int):
+        """The ways of solving one min-max problem, in the order the failure ladder tries them: warm-started
+        from ``prev`` (a successful plan k steps old) when given, then cold."""
+        rungs = []
+        if prev is not None:
+            rungs.append(("warm start", lambda: self._solve(x, P, prev, k)))
+        rungs.append(("cold start", lambda: self._solve(x, P, None, 0)))
+        return rungs
+
+    def _solve(self, x, P, prev: MinMaxPlan | None, k: int) -> MinMaxPlan:
+        """One solve; ``prev`` (a plan k >= 1 steps old) shifted by k stages is the warm start."""
         M = self.M
-        guess = None if prev is None else np.vstack([prev.inputs[1:], prev.inputs[-1:]])
+        guess = None if prev is None else np.vstack([prev.inputs[k:], np.repeat(prev.inputs[-1:], k, axis=0)])
         if self.method == "exact":
-            working = None if prev is None else self._solver.shift(prev.extra.get("active", []))
+            working = None if prev is None else self._solver.shift(prev.extra.get("active", []), k)
             return self._solver.solve(x, P, guess, working)
         if self.method == "exchange":
             Pm = np.broadcast_to(self.cost.default_params, (M, self.cost.n_params)) if P is None else P
             scen = None
             if prev is not None:
                 seqs = list(prev.extra.get("active_scenarios", [])) + [prev.worst_w]
-                scen = [np.vstack([s[1:], s[-1:]]) for s in seqs]
+                scen = [np.vstack([s[k:], np.repeat(s[-1:], k, axis=0)]) for s in seqs]
             return self._solver.solve(x, np.asarray(Pm, float), guess, scen)
         return self._game_plan(x, P)
 
@@ -192,7 +215,8 @@ class MinMaxRHC(Controller):
 
     # -- the controller -----------------------------------------------------------
     def reset(self) -> None:
-        self._prev = None
+        self._ladder.reset()
+        self._good: tuple[int, MinMaxPlan] | None = None
         self._log = []
 
     def control(self, obs: Observation) -> Decision:
@@ -201,11 +225,15 @@ class MinMaxRHC(Controller):
                 f"MinMaxRHC got a disturbance preview of shape {np.shape(obs.w_preview)}; Algorithm 3 has no "
                 "disturbance preview (preview_w = 0): it plans against every sequence in W")
         P = None if obs.cost_params is None else obs.cost_params[: self.M]
-        plan = self._solve(obs.x, P, self._prev)
-        self._prev = plan
+        prev, k = None, 0
+        if self._good is not None and 1 <= obs.t - self._good[0] < self.M:
+            k, prev = obs.t - self._good[0], self._good[1]
+        plan = self._ladder.step(obs.t, self._rungs(obs.x, P, prev, k))
+        if plan.success:
+            self._good = (obs.t, plan)
         self._log.append(plan)
         return Decision(u=plan.inputs[0].copy(), value=plan.value, success=plan.success, status=plan.status,
-                        iterations=plan.iterations, solve_time=plan.solve_time)
+                        iterations=plan.iterations, solve_time=plan.solve_time, fallback=plan.fallback)
 
     def record(self) -> dict:
         """Per step t: ``lower``, ``upper`` (the bounds on V^t_{W,M}), ``gap``, ``iterations``,

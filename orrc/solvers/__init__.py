@@ -1,5 +1,5 @@
 """Solvers of the M-step problems. They know nothing of time: x, W, costs in, plan out."""
 from .minmax import MinMaxPlan
-from .plan import Plan
+from .plan import Plan, SolverError, SolverWarning
 
-__all__ = ["Plan", "MinMaxPlan"]
+__all__ = ["Plan", "MinMaxPlan", "SolverWarning", "SolverError"]

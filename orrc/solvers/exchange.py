@@ -32,7 +32,7 @@ programs:
   certify).
 
 The worst sequence found joins S, and the loop repeats until upper - lower <= rtol·|upper| +
-atol, or ``max_iter`` iterations (then ``success`` is False and a SolverWarning says so). The
+atol, or ``max_iter`` iterations (then ``success`` is False: the caller reports it). The
 plan returned is the one with the smallest ``upper`` seen. With ``max_scenarios`` slots in use,
 scenarios whose constraint is inactive (zero multiplier) are dropped first.
 """
@@ -40,13 +40,12 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 
 import casadi as ca
 import numpy as np
 
 from ..disturbances import Ball, Box
-from .minmax import MinMaxPlan, _box_vertices
+from .minmax import MinMaxPlan
 
 __all__ = ["ScenarioExchange"]
 
@@ -123,7 +122,6 @@ class ScenarioExchange:
         if isinstance(W, Box):
             self._lo, self._hi = W.lo.astype(float), W.hi.astype(float)
             self._center = 0.5 * (self._lo + self._hi)
-            self._verts = _box_vertices(W)
         else:
             self._center = np.zeros(n)
         self.scale = math.sqrt(W.max_norm_sq) if W.max_norm_sq > 0 else 1.0
@@ -233,8 +231,8 @@ class ScenarioExchange:
         M, n = self.M, self.n
         if count <= 0:
             return np.zeros((0, M, n))
-        if isinstance(self.W, Box):
-            return self._verts[rng.integers(len(self._verts), size=(count, M))]
+        if isinstance(self.W, Box):   # a random vertex at every stage: each coordinate at lo or hi
+            return np.where(rng.random((count, M, n)) < 0.5, self._lo, self._hi)
         d = rng.standard_normal((count, M, n))
         return self.W.radius * d / np.maximum(np.linalg.norm(d, axis=2, keepdims=True), 1e-300)
 
@@ -366,12 +364,9 @@ class ScenarioExchange:
         else:
             upper, Ub, Wb = float(Jloc[0]), U, Wloc[0]
         if not ok:
-            from .nlp import SolverWarning
-
-            warnings.warn(f"min-max scenario exchange: {status}; returning the plan with the smallest upper bound "
-                          f"found (lower {lower:.6g}, upper {upper:.6g})", SolverWarning, stacklevel=3)
+            status += f" (lower {lower:.6g}, upper {upper:.6g})"
         states = np.asarray(self._rollout(x, Ub.T, Wb.T)).T
-        return MinMaxPlan(inputs=Ub, states=states, value=float(upper), success=ok, status=status,
+        return MinMaxPlan(inputs=Ub, states=states, value=float(upper), success=ok, status=status, solver=self.solver_name,
                           iterations=iters, solve_time=time.perf_counter() - t0, worst_w=Wb, lower=float(lower),
                           upper=float(upper), method="exchange", certified=False, scenarios=len(S),
                           evaluations=evals, history=np.array(history).reshape(-1, 2),

@@ -23,9 +23,11 @@ Two exact-or-bounded methods, each reporting a lower and an upper bound on V_{W,
   Where it stops being practical: the vertex tables hold N·(Mn + Mm + 2) numbers and every
   check costs O(N·M(n+m)). With n = 2: M = 6 gives N = 1024 (well under a millisecond per
   check), M = 8 gives 16 384 (a few ms), M = 9 gives 65 536, M = 10 gives 262 144 (tens of ms
-  per check, 70 MB). ``method="auto"`` uses the exact method up to N <= ``AUTO_EXACT_LIMIT``
-  = 2^14 and scenario exchange beyond; an explicit ``method="exact"`` is refused above
-  ``max_sequences`` (default ``MAX_SEQUENCES`` = 2^18) with the count and the memory estimate.
+  per check, 70 MB), M = 13 gives 1.7e7 (4 GiB). ``method="auto"`` uses the exact method up to
+  N <= ``AUTO_EXACT_LIMIT`` = 2^14 and scenario exchange beyond; an explicit ``method="exact"``
+  estimates the memory and the operations first and is refused (or warned about) by
+  ``orrc._validate.check_size`` above the limits of ``orrc.config``, with the count of sequences,
+  the estimate and the limit in the message.
 
 * :class:`~orrc.solvers.exchange.ScenarioExchange` (``method="exchange"``): everything else,
   nonlinear systems, general costs and balls included (see that module).
@@ -37,19 +39,17 @@ from __future__ import annotations
 import itertools
 import math
 import time
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import OrrcValueError
+from .._validate import OrrcValueError, check_size
 from ..disturbances import Ball, Box
 from .plan import Plan
 
-__all__ = ["MinMaxPlan", "VertexEpigraph", "check_set", "vertex_count", "AUTO_EXACT_LIMIT", "MAX_SEQUENCES"]
+__all__ = ["MinMaxPlan", "VertexEpigraph", "check_set", "vertex_count", "AUTO_EXACT_LIMIT"]
 
 AUTO_EXACT_LIMIT = 2 ** 14
-MAX_SEQUENCES = 2 ** 18
 
 # DAQP needs a proximal term for the semidefinite epigraph QP (no curvature in s); 1e-3 keeps its
 # answers accurate to ~1e-12 on the test problems, where 1e-6 and below lost up to 1e-3 (the lower
@@ -74,7 +74,9 @@ class MinMaxPlan(Plan):
     constraint-generation rounds; ``scenarios``: the number of disturbance sequences in the
     final outer problem; ``evaluations``: disturbance sequences at which J was evaluated;
     ``sequences``: N, the vertex sequences of the exact method (0 otherwise);
-    ``history``: (lower, upper) after each iteration, shape (iterations, 2).
+    ``history``: (lower, upper) after each iteration, shape (iterations, 2). A solve that did not
+    succeed returns the best plan found with ``success=False``; the solvers do not warn (the
+    controller does, see :class:`~orrc.MinMaxRHC`).
     """
 
     worst_w: np.ndarray = None
@@ -113,19 +115,16 @@ def check_set(W, n: int):
 
 
 def _box_vertices(W: Box) -> np.ndarray:
-    """The distinct vertices of a box (coordinates with lo = hi contribute one value)."""
+    """The distinct vertices of a box (coordinates with lo = hi contribute one value); call it only
+    after a size check (:func:`vertex_count`)."""
     return np.array(list(itertools.product(*[(lo,) if lo == hi else (lo, hi) for lo, hi in zip(W.lo, W.hi)])),
                     dtype=float)
 
 
 def vertex_count(W: Box, M: int) -> int:
     """N = V^{M-1}: the vertex sequences (w_0..w_{M-2}) the exact method enumerates (V = the
-    distinct vertices of the box W, 2^n for a full-dimensional one)."""
-    return len(_box_vertices(W)) ** (M - 1)
-
-
-def _memory_bytes(N: int, M: int, n: int, m: int) -> int:
-    return 8 * N * (M * n + M * m + 2)
+    distinct vertices of the box W, 2^n for a full-dimensional one), counted without listing them."""
+    return (2 ** int(np.count_nonzero(W.lo < W.hi))) ** (M - 1)
 
 
 def condensed(A: np.ndarray, B: np.ndarray, M: int):
@@ -189,22 +188,20 @@ class VertexEpigraph:
 
     is the QP  min_{U,s} UᵀHU + s  s.t.  2 g_vᵀU + k_v <= s  (and the input bounds), exact
     because a convex function's maximum over a box is attained at a vertex. See the module
-    docstring for the sizes. ``max_sequences`` guards the size (an error with the count and
-    the memory the tables would take).
+    docstring for the sizes: the tables' memory and the operations of the construction and of
+    ten constraint-generation rounds are estimated and checked first (``check_size``).
     """
 
-    def __init__(self, system, cost, M: int, W: Box, input_bounds=None, max_sequences: int = MAX_SEQUENCES,
-                 rtol: float = 1e-9, max_rounds: int = 200):
+    def __init__(self, system, cost, M: int, W: Box, input_bounds=None, rtol: float = 1e-9, max_rounds: int = 200):
         self.M, self.n, self.m = M, system.n, system.m
         n, m = self.n, self.m
+        V = 2 ** int(np.count_nonzero(W.lo < W.hi))
+        N = vertex_count(W, M)
+        width = M * n + M * m + 2
+        check_size(f"the exact min-max method at M={M}, n={n}: N = {V}^(M-1) = {N} vertex sequences",
+                   nbytes=8.0 * N * (width + M * n), ops=float(N) * (M * n) ** 2 + 10.0 * 4 * N * width,
+                   hint="use method='exchange' (scenario exchange), or a shorter horizon M")
         verts = _box_vertices(W)
-        N = len(verts) ** (M - 1)
-        if N > max_sequences:
-            raise OrrcValueError(
-                f"the exact min-max method would enumerate N = {len(verts)}^(M-1) = {N} vertex sequences "
-                f"(M={M}, {len(verts)} vertices of W), about {_memory_bytes(N, M, n, m) / 1e6:.0f} MB of tables; "
-                f"the limit is max_sequences={max_sequences}: use method='exchange' (scenario exchange) "
-                f"or a shorter horizon M")
         self.N, self.W, self.verts = N, W, verts
         self.A, self.B, self.cost = system.A, system.B, cost
         self.Phi, self.Gu, self.Gw = condensed(system.A, system.B, M)
@@ -322,10 +319,7 @@ class VertexEpigraph:
         worst = self._sequence(v)
         Uin = U.reshape(M, m)
         states = self._rollout(x, Uin, worst)
-        if not ok:
-            warnings.warn(f"exact min-max solve: {status}; returning the best plan found", _solver_warning(),
-                          stacklevel=3)
-        return MinMaxPlan(inputs=Uin, states=states, value=float(upper), success=ok, status=status,
+        return MinMaxPlan(inputs=Uin, states=states, value=float(upper), success=ok, status=status, solver="daqp",
                           iterations=rounds, solve_time=time.perf_counter() - t0, worst_w=worst,
                           lower=float(lower), upper=float(upper), method="exact", certified=ok,
                           scenarios=len(ws), evaluations=self.N * rounds, sequences=self.N,
@@ -364,14 +358,15 @@ class VertexEpigraph:
             X[j + 1] = self.A @ X[j] + self.B @ U[j] + Wseq[j]
         return X
 
-    def shift(self, active) -> list[int]:
-        """Warm-start indices for the next step: each active sequence (v_0..v_{M-2}) shifted to
-        (v_1..v_{M-2}, v_{M-2}) (the receding horizon moves one stage)."""
-        if self.M <= 2 or len(active) == 0:
+    def shift(self, active, k: int = 1) -> list[int]:
+        """Warm-start indices k steps later: each active sequence (v_0..v_{M-2}) shifted by k stages,
+        (v_k..v_{M-2}, v_{M-2}, ..., v_{M-2}) (the receding horizon moves k stages)."""
+        if self.M <= 2 or len(active) == 0 or k < 1:
             return []
         V = len(self.verts)
         seqs = self.idx[np.asarray(active, dtype=np.int64)]
-        shifted = np.hstack([seqs[:, 1:], seqs[:, -1:]])
+        k = min(k, self.M - 1)
+        shifted = np.hstack([seqs[:, k:], np.repeat(seqs[:, -1:], k, axis=1)])
         weights = V ** np.arange(self.M - 2, -1, -1)
         return [int(i) for i in shifted @ weights]
 
@@ -384,8 +379,3 @@ def _block_diag(blocks) -> np.ndarray:
         out[j * k:(j + 1) * k, j * k:(j + 1) * k] = b
     return out
 
-
-def _solver_warning():
-    from .nlp import SolverWarning
-
-    return SolverWarning
