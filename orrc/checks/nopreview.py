@@ -19,7 +19,7 @@ import numpy as np
 from .. import theory
 from .._validate import OrrcValueError, as_float, as_int
 from ..theory.nopreview import _constants_W, _theorem3_constants, _theorem3_setting
-from .known import Lemma1Margins, Margins
+from .known import Lemma1Margins, Margins, _require_valid_values
 
 __all__ = ["minmax_value_bound_margins", "lemma6_margins", "theorem3_margin"]
 
@@ -34,6 +34,7 @@ def _minmax_trajectory(traj, M, W):
         raise OrrcValueError(
             f"the trajectory has no V_(W,M) values (controller {traj.controller!r}); simulate Algorithm 3 "
             "(orrc.MinMaxRHC), which reports V_(W,M) at every step")
+    _require_valid_values(traj, "V_(W,M)", "Algorithm 3")
     M = as_int("M", M, minimum=2)
     if traj.preview_w != 0 or traj.preview_c != M:
         raise OrrcValueError(
