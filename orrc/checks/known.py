@@ -85,10 +85,18 @@ class Lemma1Margins:
         return self.lower.holds(rtol, atol) and self.increment.holds(rtol, atol)
 
 
-def _require_valid_values(traj, value: str, algorithm: str) -> None:
-    """Refuse a trajectory with steps whose value (``value``, e.g. "V_M") is not the optimum of a
-    successful solve (failed steps, non-finite values), or with non-finite costs or σ: the lemmas
-    are about ``algorithm``'s values."""
+def _valued_trajectory(traj, value: str, algorithm: str, controller: str):
+    """``traj`` when it is a :class:`~orrc.Trajectory` whose every step holds ``value`` (e.g. "V_M")
+    as the optimum of a successful solve, with finite costs and σ; else an error saying why (the
+    lemmas are about ``algorithm``'s optimal values, which ``controller`` reports)."""
+    from ..simulate import Trajectory
+
+    if not isinstance(traj, Trajectory):
+        raise OrrcValueError(f"traj must be an orrc Trajectory (from orrc.simulate); got {type(traj).__name__}")
+    if traj.values is None:
+        raise OrrcValueError(
+            f"the trajectory has no {value} values (controller {traj.controller!r}); simulate {algorithm} "
+            f"({controller}), which reports {value} at every step")
     if traj.n_failures or (traj.value_valid is not None and not traj.value_valid.all()):
         bad = np.flatnonzero(~traj.success) if traj.n_failures else np.flatnonzero(~traj.value_valid)
         raise OrrcValueError(
@@ -99,18 +107,11 @@ def _require_valid_values(traj, value: str, algorithm: str) -> None:
     if not (np.all(np.isfinite(traj.costs)) and np.all(np.isfinite(traj.sigma))):
         raise OrrcValueError("traj has non-finite stage costs or σ (the run overflowed; see the NonFiniteWarning "
                              "of orrc.simulate): the inequalities cannot be checked")
+    return traj
 
 
 def _trajectory(traj, M):
-    from ..simulate import Trajectory
-
-    if not isinstance(traj, Trajectory):
-        raise OrrcValueError(f"traj must be an orrc Trajectory (from orrc.simulate); got {type(traj).__name__}")
-    if traj.values is None:
-        raise OrrcValueError(
-            f"the trajectory has no V_M values (controller {traj.controller!r}); simulate Algorithm 1 "
-            "(orrc.PreviewRHC), which reports V_M at every step")
-    _require_valid_values(traj, "V_M", "Algorithm 1")
+    traj = _valued_trajectory(traj, "V_M", "Algorithm 1", "orrc.PreviewRHC")
     M = as_int("M", M, minimum=2)
     if traj.preview_w != M:
         raise OrrcValueError(

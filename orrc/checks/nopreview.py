@@ -19,22 +19,15 @@ import numpy as np
 from .. import theory
 from .._validate import OrrcValueError, as_float, as_int
 from ..theory.nopreview import _constants_W, _theorem3_constants, _theorem3_setting
-from .known import Lemma1Margins, Margins, _require_valid_values
+from .known import Lemma1Margins, Margins, _valued_trajectory
 
 __all__ = ["minmax_value_bound_margins", "lemma6_margins", "theorem3_margin"]
 
 
 def _minmax_trajectory(traj, M, W):
-    from ..simulate import Trajectory
     from ..solvers.minmax import check_set
 
-    if not isinstance(traj, Trajectory):
-        raise OrrcValueError(f"traj must be an orrc Trajectory (from orrc.simulate); got {type(traj).__name__}")
-    if traj.values is None:
-        raise OrrcValueError(
-            f"the trajectory has no V_(W,M) values (controller {traj.controller!r}); simulate Algorithm 3 "
-            "(orrc.MinMaxRHC), which reports V_(W,M) at every step")
-    _require_valid_values(traj, "V_(W,M)", "Algorithm 3")
+    traj = _valued_trajectory(traj, "V_(W,M)", "Algorithm 3", "orrc.MinMaxRHC")
     M = as_int("M", M, minimum=2)
     if traj.preview_w != 0 or traj.preview_c != M:
         raise OrrcValueError(

@@ -21,8 +21,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
-from .plots import _axes, _figure, _nonempty_dict, _trajs, controller_color
-from .theory_plots import _legend_below, _message, _symlog
+from .plots import _figure, _nonempty_dict, _trajs, controller_color
+from .theory_plots import _legend_below, _message, lemma1_check
 
 __all__ = ["bounds_history", "minmax_pareto", "lemma6_check", "theorem3_growth", "controller_costs", "minmax_frame"]
 
@@ -135,42 +135,19 @@ def lemma6_check(lemma6, value_bound=None, title: str | None = None, fast: bool 
     (:func:`orrc.checks.minmax_value_bound_margins`) is given, the upper bound ᾱ_W σ(x_t) +
     γ̄_W max‖w‖² (log scale). Right: the increments V^{t+1} - V^t and the bound
     Γ_{W,V} σ(x_t) + Γ^γ_{W,V} max‖w‖² (symmetric log scale). The title gives the smallest margin.
+    The figure of Lemma 1 (:func:`orrc.viz.theory_plots.lemma1_check`) with Lemma 6's labels.
     """
-    from ..checks import Lemma1Margins, Margins
+    from ..checks import Lemma1Margins
 
     if not isinstance(lemma6, Lemma1Margins):
         raise OrrcValueError(f"lemma6 must be the result of orrc.checks.lemma6_margins; got {type(lemma6).__name__}")
-    if value_bound is not None and not isinstance(value_bound, Margins):
-        raise OrrcValueError(f"value_bound must be orrc.checks.Margins; got {type(value_bound).__name__}")
-    fig, axes = _figure(1, 2, width=10.0, height=4.0, fast=fast,
-                        margins={"top": 0.80 if title else 0.86, "bottom": 0.27})
-    ax, ax2 = axes[0]
-    low = lemma6.lower
-    floor = max(float(np.min(low.bound[low.bound > 0], initial=1.0)) * 1e-3, 1e-300)
-    if value_bound is not None:
-        ax.plot(value_bound.t, value_bound.bound, color="tab:red", linewidth=1.2,
-                label=r"$\overline{\alpha}_W\sigma(x_t) + \overline{\gamma}_W\max\|w\|^2$")
-    ax.plot(low.t, low.bound, color="tab:blue", linewidth=1.6, label=r"$V^t_{W,M}(x_t)$")
-    ax.plot(low.t, np.maximum(low.actual, floor), color="tab:green", linewidth=1.2,
-            label=r"$\underline{\alpha}\,\sigma(x_t)$")
-    ax.set_yscale("log")
-    ax.set_xlabel("$t$")
-    ax.set_title("the value between its bounds", fontsize=10)
-    _legend_below(ax, ncol=2)
-    inc = lemma6.increment
-    ax2.plot(inc.t, inc.bound, color="tab:red", linewidth=1.2,
-             label=r"bound $\Gamma_{W,V}\sigma(x_t) + \Gamma^\gamma_{W,V}\max\|w\|^2$")
-    ax2.plot(inc.t, inc.actual, color="tab:blue", linewidth=1.4, marker=".", markersize=3,
-             label=r"$V^{t+1}_{W,M} - V^t_{W,M}$")
-    ax2.axhline(0.0, color="k", linewidth=0.7)
-    _symlog(ax2, inc.bound, inc.actual)
-    ax2.set_xlabel("$t$")
-    ax2.set_title(rf"increments: $\Gamma_{{W,V}} = {lemma6.Gamma_V:.3g}$, "
-                  rf"$\Gamma^\gamma_{{W,V}} = {lemma6.Gamma_V_gamma:.3g}$", fontsize=10)
-    _legend_below(ax2, ncol=1)
-    m = min(float(inc.margin.min()), float(low.margin.min()))
-    fig.suptitle((title + "\n" if title else "") + f"smallest margin (bound minus actual): {m:.3g}", fontsize=10)
-    return fig
+    return lemma1_check(lemma6, value_bound, title=title, fast=fast, labels={
+        "value": r"$V^t_{W,M}(x_t)$",
+        "upper": r"$\overline{\alpha}_W\sigma(x_t) + \overline{\gamma}_W\max\|w\|^2$",
+        "bound": r"bound $\Gamma_{W,V}\sigma(x_t) + \Gamma^\gamma_{W,V}\max\|w\|^2$",
+        "increment": r"$V^{t+1}_{W,M} - V^t_{W,M}$",
+        "Gamma": r"\Gamma_{W,V}",
+        "Gamma_gamma": r"\Gamma^\gamma_{W,V}"})
 
 
 def theorem3_growth(runs: dict, gamma: float, w_max_sq: float, title: str | None = None) -> Figure:
