@@ -22,9 +22,14 @@ from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from .plots import _figure, _nonempty_dict, _trajs, controller_color
-from .theory_plots import _legend_below, _message, lemma1_check
+from .theory_plots import _message, lemma1_check
 
 __all__ = ["bounds_history", "minmax_pareto", "lemma6_check", "theorem3_growth", "controller_costs", "minmax_frame"]
+
+
+def _legend_below(ax, ncol: int = 2, offset: float = -0.2, **kw) -> None:
+    """A frameless legend with 9 pt text centred under the axes (``offset``: its top, in axes fractions)."""
+    ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, offset), ncol=ncol, frameon=False, **kw)
 
 
 def _plans(plans) -> dict:
@@ -43,13 +48,14 @@ def _plans(plans) -> dict:
 def bounds_history(plans: dict, title: str | None = None) -> Figure:
     """The bounds on V_{W,M}(x) after each iteration of a min-max solve (``plan.history``).
 
-    Left: lower (dots) and upper (squares) bounds divided by the final value, one colour per
-    plan (``plans``: label -> :class:`~orrc.solvers.minmax.MinMaxPlan`). Right: the relative gap
-    (upper - lower)/upper on a log scale (a gap of exactly 0 is drawn at 1e-16).
+    Top: lower (dots) and upper (squares) bounds divided by the final value, one colour per
+    plan (``plans``: label -> :class:`~orrc.solvers.minmax.MinMaxPlan`). Bottom: the relative gap
+    (upper - lower)/upper on a log scale (a gap of exactly 0 is drawn at 1e-16). The panels are
+    stacked (readable on a phone).
     """
     plans = _plans(plans)
-    fig, axes = _figure(1, 2, width=10.0, height=3.6)
-    ax, ax2 = axes[0]
+    fig, axes = _figure(2, 1, width=6.4, height=7.6)
+    ax, ax2 = axes[:, 0]
     for i, (label, p) in enumerate(plans.items()):
         h = np.asarray(p.history, float)
         it = np.arange(1, len(h) + 1)
@@ -131,17 +137,17 @@ def minmax_pareto(constants, preview=None, title: str | None = None) -> Figure:
 def lemma6_check(lemma6, value_bound=None, title: str | None = None, fast: bool = False) -> Figure:
     """Lemma 6 along a trajectory of Algorithm 3, from :func:`orrc.checks.lemma6_margins` (``lemma6``).
 
-    Left: V^t_{W,M}(x_t) with its lower bound α_lo σ(x_t) and, when ``value_bound``
+    Top: V^t_{W,M}(x_t) with its lower bound α_lo σ(x_t) and, when ``value_bound``
     (:func:`orrc.checks.minmax_value_bound_margins`) is given, the upper bound ᾱ_W σ(x_t) +
-    γ̄_W max‖w‖² (log scale). Right: the increments V^{t+1} - V^t and the bound
+    γ̄_W max‖w‖² (log scale). Bottom: the increments V^{t+1} - V^t and the bound
     Γ_{W,V} σ(x_t) + Γ^γ_{W,V} max‖w‖² (symmetric log scale). The title gives the smallest margin.
-    The figure of Lemma 1 (:func:`orrc.viz.theory_plots.lemma1_check`) with Lemma 6's labels.
+    The figure of Lemma 1 (:func:`orrc.viz.theory_plots.lemma1_check`) with Lemma 6's labels, stacked.
     """
     from ..checks import Lemma1Margins
 
     if not isinstance(lemma6, Lemma1Margins):
         raise OrrcValueError(f"lemma6 must be the result of orrc.checks.lemma6_margins; got {type(lemma6).__name__}")
-    return lemma1_check(lemma6, value_bound, title=title, fast=fast, labels={
+    return lemma1_check(lemma6, value_bound, title=title, fast=fast, stacked=True, labels={
         "value": r"$V^t_{W,M}(x_t)$",
         "upper": r"$\overline{\alpha}_W\sigma(x_t) + \overline{\gamma}_W\max\|w\|^2$",
         "bound": r"bound $\Gamma_{W,V}\sigma(x_t) + \Gamma^\gamma_{W,V}\max\|w\|^2$",
@@ -192,7 +198,7 @@ def theorem3_growth(runs: dict, gamma: float, w_max_sq: float, title: str | None
                        label=r"$\gamma \sum_{t<T}\|w_t\|^2$ (not a bound)")]
     ax.set_yscale("log")
     ax.set_xlabel("$T$")
-    ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
+    _legend_below(ax, ncol=2, offset=-0.16, handles=handles)
     ax.set_title(title or f"Theorem 3 at $\\gamma = \\gamma_{{c,W}} = {gamma:.4g}$", fontsize=10)
     return fig
 
@@ -228,16 +234,17 @@ def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"tota
 def minmax_frame(M: int, r: float, trajs: dict, bound=None, w_max_sq: float | None = None) -> Figure:
     """An explorer frame for the horizon M and the size r of W = [-r, r]^n.
 
-    Left: the cumulative cost of each closed loop (``trajs``: label -> :class:`~orrc.Trajectory`,
-    all under the same disturbance). Right: the min-max controller's value
+    Top: the cumulative cost of each closed loop (``trajs``: label -> :class:`~orrc.Trajectory`,
+    all under the same disturbance). Bottom: the min-max controller's value
     V^t_{W,M}(x_t) (the trajectory labelled with "min-max") with ``bound`` (an array over t, e.g.
     ᾱ_W σ(x_t) + γ̄_W max‖w‖²) when given, else a message that no certified pair exists.
     """
     M = as_int("M", M, minimum=1)
     r = as_float("r", r, minimum=0.0)
     trajs = _trajs(trajs)
-    fig, axes = _figure(1, 2, width=10.0, height=3.6, fast=True, margins={"bottom": 0.3, "top": 0.86})
-    ax, ax2 = axes[0]
+    fig, axes = _figure(2, 1, width=6.4, height=7.4, fast=True,
+                        margins={"bottom": 0.14, "top": 0.92, "hspace": 0.75, "left": 0.13, "right": 0.97})
+    ax, ax2 = axes[:, 0]
     for i, (label, tr) in enumerate(trajs.items()):
         ax.plot(np.arange(1, tr.T + 1), np.cumsum(tr.costs), color=controller_color(label, i), linewidth=1.5,
                 label=f"{label}: {tr.costs.sum():.3g}")
@@ -245,7 +252,7 @@ def minmax_frame(M: int, r: float, trajs: dict, bound=None, w_max_sq: float | No
     ax.set_xlabel("$t$")
     ax.set_ylabel(r"$\sum_{s \leq t} c_s$")
     ax.set_title("cumulative cost (total in the legend)", fontsize=10)
-    _legend_below(ax, ncol=2, offset=-0.2)
+    _legend_below(ax, ncol=2, offset=-0.22)
     mm = [tr for label, tr in trajs.items() if "min-max" in label.lower() and tr.values is not None]
     if not mm:
         _message(ax2, "no min-max trajectory with values")
@@ -263,7 +270,7 @@ def minmax_frame(M: int, r: float, trajs: dict, bound=None, w_max_sq: float | No
         ax2.set_ylim(bottom=0.0)
         ax2.set_xlabel("$t$")
         ax2.set_title("the min-max value and its certified bound", fontsize=10)
-        _legend_below(ax2, ncol=1, offset=-0.2)
+        _legend_below(ax2, ncol=1, offset=-0.22)
     w = "" if w_max_sq is None else f", max‖w‖² = {as_float('w_max_sq', w_max_sq, minimum=0.0):.3g}"
     fig.suptitle(f"M = {M}, W = [-{r:g}, {r:g}]" + w, fontsize=11)
     return fig

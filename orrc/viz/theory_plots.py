@@ -201,7 +201,7 @@ _LEMMA1_LABELS = {
 
 
 def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool = False,
-                 labels: dict | None = None) -> Figure:
+                 labels: dict | None = None, stacked: bool = False) -> Figure:
     """Lemma 1 along a trajectory, from :func:`orrc.checks.lemma1_margins` (``lemma1``).
 
     Left: V^t_M(x_t) with its lower bound α_lo σ(x_t) (Lemma 1, first part) and, when
@@ -211,7 +211,8 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool 
     log scale: increments are often negative). The title gives Γ_V, Γ^γ_V and the
     smallest margin. ``labels`` replaces some of the legend's and title's labels (keys of
     ``_LEMMA1_LABELS``: value, upper, bound, increment, Gamma, Gamma_gamma), for the same check of
-    another lemma (Lemma 6: :func:`orrc.viz.minmax_plots.lemma6_check`).
+    another lemma (Lemma 6: :func:`orrc.viz.minmax_plots.lemma6_check`). ``stacked``: the two
+    panels one above the other (narrow: for phones).
     """
     from ..checks import Lemma1Margins
 
@@ -225,9 +226,14 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool 
         lab.update(labels)
     if value_bound is not None:
         value_bound = _margins("value_bound", value_bound)
-    fig, axes = _figure(1, 2, width=10.0, height=4.0, fast=fast,
-                        margins={"top": 0.80 if title else 0.86, "bottom": 0.27})
-    ax, ax2 = axes[0]
+    if stacked:
+        fig, axes = _figure(2, 1, width=6.4, height=8.0, fast=fast,
+                            margins={"top": 0.88 if title else 0.92, "bottom": 0.12, "hspace": 0.75, "left": 0.14})
+        ax, ax2 = axes[:, 0]
+    else:
+        fig, axes = _figure(1, 2, width=10.0, height=4.0, fast=fast,
+                            margins={"top": 0.80 if title else 0.86, "bottom": 0.27})
+        ax, ax2 = axes[0]
     low = lemma1.lower
     floor = max(float(np.min(low.bound[low.bound > 0], initial=1.0)) * 1e-3, 1e-300)
     if value_bound is not None:
@@ -240,7 +246,7 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool 
     ax.set_yscale("log")
     ax.set_xlabel("$t$")
     ax.set_title("the value between its bounds", fontsize=10)
-    _legend_below(ax, ncol=3)
+    _legend_below(ax, ncol=2 if stacked else 3, offset=-0.25 if stacked else -0.2)
     inc = lemma1.increment
     ax2.plot(inc.t, inc.bound, color="tab:red", linewidth=1.2, label=lab["bound"])
     ax2.plot(inc.t, inc.actual, color="tab:blue", linewidth=1.4, marker=".", markersize=3, label=lab["increment"])
@@ -249,7 +255,7 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool 
     ax2.set_xlabel("$t$")
     ax2.set_title(rf"increments: ${lab['Gamma']} = {lemma1.Gamma_V:.3g}$, "
                   rf"${lab['Gamma_gamma']} = {lemma1.Gamma_V_gamma:.3g}$", fontsize=10)
-    _legend_below(ax2)
+    _legend_below(ax2, offset=-0.25 if stacked else -0.2)
     m = min(float(inc.margin.min()), float(low.margin.min()))
     head = (title + "\n") if title else ""
     fig.suptitle(f"{head}smallest margin (bound minus actual): {m:.3g}", fontsize=10)
