@@ -12,16 +12,17 @@ import argparse
 import sys
 import time
 
-from . import lq_path, minmax, pendulum
+from . import comparison, lq_path, minmax, pendulum
 from .common import CheckFailed, machine, markdown_table
 
-FULL = {"pendulum": {}, "lq": {}, "minmax": {}}  # the defaults of pendulum.run, lq_path.run and minmax.run
+FULL = {"pendulum": {}, "lq": {}, "comparison": {}, "minmax": {}}  # the defaults of each module's run()
 QUICK = {
     "pendulum": dict(M=5, thetas=(0.5,), reps_orrc=2, reps_peer=1),
     "lq": dict(T=40, M=5, reps=2),
+    "comparison": dict(T=10, M=4),
     "minmax": dict(Ms=(4, 5), reps=1, M_pendulum=5, T=4),
 }
-MODULES = {"pendulum": pendulum, "lq": lq_path, "minmax": minmax}
+MODULES = {"pendulum": pendulum, "lq": lq_path, "comparison": comparison, "minmax": minmax}
 
 
 def main(argv=None) -> int:

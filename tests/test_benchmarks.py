@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import orrc
-from benchmarks import lq_path, minmax, pendulum, run
+from benchmarks import comparison, lq_path, minmax, pendulum, run
 from benchmarks.common import CheckFailed
 
 
@@ -94,3 +94,17 @@ def test_minmax_benchmark_catches_an_exchange_that_disagrees(monkeypatch):
     monkeypatch.setattr(orrc.MinMaxRHC, "plan", off)
     with pytest.raises(CheckFailed, match="values differ"):
         minmax.run(Ms=(3,), reps=1, M_pendulum=4, T=2)
+
+
+def test_comparison_table_has_every_controller_and_the_clairvoyant_is_never_beaten(capsys):
+    rows = comparison.run(T=8, M=3)
+    kinds = {r.data["kind"] for r in rows}
+    assert len(kinds) == 4 and len(rows) == 4 * 9
+    for kind in kinds:
+        rs = [r.data["row"] for r in rows if r.data["kind"] == kind]
+        clair = rs[-1].cost
+        assert rs[-1].name == "clairvoyant optimum" and all(clair <= r.cost * (1 + 1e-9) for r in rs)
+        assert all(r.dynamic_regret == pytest.approx(r.cost - clair) for r in rs)
+    assert run.main(["--quick", "--only", "comparison"]) == 0
+    out = capsys.readouterr().out
+    assert "regret-optimal (T = 10)" in out and "H∞, preview 4" in out

@@ -18,6 +18,9 @@ One module per kind of result:
   R^p_T(γ) <= 0 for every disturbance sequence of length T from x_0 = 0, and the
   disturbance that attains it; :func:`worst_case_attenuation_limit`, its T → ∞ limit:
   the squared H∞ norm of the closed loop from w to the cost output (python-control).
+* :mod:`orrc.certify.regret` -- :func:`worst_case_regret`, for a linear closed loop over T steps the
+  worst-case dynamic regret against the clairvoyant optimum over ‖w‖ <= 1, and the disturbance
+  attaining it (the top singular pair of the regret operator).
 
 * :mod:`orrc.certify.minmax` -- :func:`minmax_constants`, the constants ᾱ_W, γ̄_W of Appendix D
   (no disturbance preview): certified for a linear-quadratic problem without input bounds (a
@@ -28,8 +31,9 @@ SciPy is imported inside the functions that use it, so that ``import orrc`` does
 from .attenuation import Attenuation, worst_case_attenuation, worst_case_attenuation_limit
 from .constants import Constants, alpha_hi_floor, lq_constants, smallest_certified_M
 from .minmax import MinMaxConstants, minmax_constants
+from .regret import Regret, worst_case_regret
 from .sampled import sampled_constants
 
 __all__ = ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
-           "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit", "MinMaxConstants",
-           "minmax_constants"]
+           "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit", "Regret",
+           "worst_case_regret", "MinMaxConstants", "minmax_constants"]

@@ -113,6 +113,12 @@ def _valued_trajectory(traj, value: str, algorithm: str, controller: str):
 def _trajectory(traj, M):
     traj = _valued_trajectory(traj, "V_M", "Algorithm 1", "orrc.PreviewRHC")
     M = as_int("M", M, minimum=2)
+    if traj.preview_w < traj.preview_c:
+        raise OrrcValueError(
+            f"the trajectory's controller planned over M_c = {traj.preview_c} steps but saw only "
+            f"M_w = {traj.preview_w} future disturbances (PreviewRHC(..., preview_w={traj.preview_w})): "
+            "Lemma 1, Lemma 2 and Theorem 1 are about Algorithm 1, which sees the whole window "
+            "(preview_w = M)")
     if traj.preview_w != M:
         raise OrrcValueError(
             f"M={M} but the trajectory's controller previewed M_w={traj.preview_w} disturbances; the "

@@ -3,8 +3,11 @@ policy on solver failure (:mod:`orrc.controllers.failures`, shared by every rece
 from .base import Controller, Decision, Observation
 from .baselines import LQR, Clairvoyant, ZeroInput
 from .failures import FailureLadder
+from .gpc import GPC, DisturbanceAction
+from .hinf import HInfinity
 from .minmax import MinMaxRHC
+from .regret_optimal import RegretOptimal
 from .preview import PreviewRHC
 
 __all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "MinMaxRHC", "LQR", "Clairvoyant", "ZeroInput",
-           "FailureLadder"]
+           "FailureLadder", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal"]
