@@ -129,20 +129,18 @@ def vertex_count(W: Box, M: int) -> int:
 
 def condensed(A: np.ndarray, B: np.ndarray, M: int):
     """Φ (Mn, n), G_u (Mn, Mm), G_w (Mn, Mn) with [x_0; ...; x_{M-1}] = Φ x + G_u vec U + G_w vec W
-    for x_{j+1} = A x_j + B u_j + w_j (the states of the costed stages)."""
+    for x_{j+1} = A x_j + B u_j + w_j (the states of the costed stages). G_u and G_w are the batch
+    operators of :func:`orrc.solvers.condensed.condensed` (no pre-stabilisation); Φ stacks A^j."""
+    from .condensed import condensed as batch
+
     n, m = B.shape
+    ops = batch(A, B, np.eye(n), np.eye(m), M)
     Phi = np.zeros((M * n, n))
-    Gu = np.zeros((M * n, M * m))
-    Gw = np.zeros((M * n, M * n))
-    powers = [np.eye(n)]
-    for _ in range(1, M):
-        powers.append(A @ powers[-1])
+    power = np.eye(n)
     for j in range(M):
-        Phi[j * n:(j + 1) * n] = powers[j]
-        for i in range(j):
-            Gu[j * n:(j + 1) * n, i * m:(i + 1) * m] = powers[j - 1 - i] @ B
-            Gw[j * n:(j + 1) * n, i * n:(i + 1) * n] = powers[j - 1 - i]
-    return Phi, Gu, Gw
+        Phi[j * n:(j + 1) * n] = power
+        power = A @ power
+    return Phi, ops.F, ops.G
 
 
 class _WorkingSetQP:

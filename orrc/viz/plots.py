@@ -23,14 +23,14 @@ __all__ = [
     "table", "Table",
 ]
 
-_NAMED = {"min-max": "tab:red", "game": "tab:purple", "zero": "0.55", "lqr": "tab:orange", "rhc": "tab:blue",
+_NAMED = {"min-max": "tab:red", "game": "tab:purple", "h∞": "tab:purple", "zero": "0.55", "lqr": "tab:orange", "rhc": "tab:blue",
           "preview": "tab:blue", "clairvoyant": "black", "optimum": "black"}
 _CYCLE = ["tab:blue", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 
 
 def controller_color(label: str, index: int = 0) -> str:
     """A stable colour per controller: zero input grey, LQR orange, preview RHC blue, min-max RHC
-    red, a game controller purple, the clairvoyant optimum black; other labels cycle through a
+    red, a game or H∞ controller purple, the clairvoyant optimum black; other labels cycle through a
     fixed palette."""
     low = str(label).lower()
     for key, colour in _NAMED.items():
