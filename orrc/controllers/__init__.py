@@ -1,4 +1,5 @@
-"""Controllers: Algorithm 1 (PreviewRHC), Algorithm 3 (MinMaxRHC) and the baselines, and the escalation
+"""Controllers: Algorithm 1 (PreviewRHC), Algorithm 2 (EstimateThenControl), Algorithm 3 (MinMaxRHC), the
+baselines, and the escalation
 policy on solver failure (:mod:`orrc.controllers.failures`, shared by every receding-horizon controller)."""
 from .base import Controller, Decision, Observation
 from .baselines import LQR, Clairvoyant, ZeroInput
@@ -8,6 +9,9 @@ from .hinf import HInfinity
 from .minmax import MinMaxRHC
 from .regret_optimal import RegretOptimal
 from .preview import PreviewRHC
+from .lifted import LiftedRHC
+from .estimate import EstimateThenControl, Excitation
 
 __all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "MinMaxRHC", "LQR", "Clairvoyant", "ZeroInput",
-           "FailureLadder", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal"]
+           "FailureLadder", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "LiftedRHC", "EstimateThenControl",
+           "Excitation"]
