@@ -4,14 +4,15 @@ Correctness, not timing: each benchmark still runs, its computations agree
 (the pendulum: orrc's SQP, its IPOPT and python-control's ``solve_ocp`` reach the same
 optimum, judged by an independent rollout of the cost; the closed loops: SQP's run is
 IPOPT's; the LQ path: ``orrc.simulate`` and the bare numpy loop produce the same
-trajectory), and the checks that enforce this do fail when the answers differ.
+trajectory; the min-max problem: the exact method and scenario exchange reach the same value),
+and the checks that enforce this do fail when the answers differ.
 """
 import numpy as np
 import pytest
 
 import orrc
 
-from benchmarks import closed_loop, comparison, lq_path, pendulum, run
+from benchmarks import closed_loop, comparison, lq_path, minmax, pendulum, run
 from benchmarks.common import CheckFailed
 
 
@@ -94,7 +95,33 @@ def test_run_quick_prints_a_table_and_succeeds(capsys):
     assert run.main(["--quick"]) == 0
     out = capsys.readouterr().out
     assert "| benchmark |" in out and "pendulum M=5" in out and "LQ path T=40" in out
-    assert "closed loop T=12" in out and "targets not judged" in out
+    assert "closed loop T=12" in out and "min-max, linear n=2, M=4" in out and "pendulum min-max M=5" in out
+    assert "targets not judged" in out
+
+
+def test_minmax_benchmark_runs_and_its_methods_agree():
+    rows = minmax.run(Ms=(3, 4), reps=1, M_pendulum=4, T=3)
+    lin = [r for r in rows if r.benchmark.startswith("min-max, linear")]
+    assert [r.data["M"] for r in lin] == [3, 4]
+    for r in lin:
+        assert r.data["gap"] <= 1e-6 and r.data["scenarios"] <= r.data["sequences"]
+        assert r.data["vertex_sequences"] == 2 ** (2 * r.data["M"]) and r.data["t_exact"] > 0
+    step = next(r for r in rows if "closed-loop step" in r.benchmark)
+    assert step.ok is not None and step.data["t_step"] > 0 and step.data["iterations"] <= minmax.PENDULUM_MAX_ITERATIONS
+
+
+def test_minmax_benchmark_catches_an_exchange_that_disagrees(monkeypatch):
+    real = orrc.MinMaxRHC.plan
+
+    def off(self, x, *a, **k):
+        p = real(self, x, *a, **k)
+        if self.method == "exchange":
+            p.value *= 1.01
+        return p
+
+    monkeypatch.setattr(orrc.MinMaxRHC, "plan", off)
+    with pytest.raises(CheckFailed, match="values differ"):
+        minmax.run(Ms=(3,), reps=1, M_pendulum=4, T=2)
 
 
 def test_comparison_table_has_every_controller_and_the_clairvoyant_is_never_beaten(capsys):

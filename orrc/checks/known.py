@@ -85,22 +85,33 @@ class Lemma1Margins:
         return self.lower.holds(rtol, atol) and self.increment.holds(rtol, atol)
 
 
-def _trajectory(traj, M):
+def _valued_trajectory(traj, value: str, algorithm: str, controller: str):
+    """``traj`` when it is a :class:`~orrc.Trajectory` whose every step holds ``value`` (e.g. "V_M")
+    as the optimum of a successful solve, with finite costs and σ; else an error saying why (the
+    lemmas are about ``algorithm``'s optimal values, which ``controller`` reports)."""
     from ..simulate import Trajectory
 
     if not isinstance(traj, Trajectory):
         raise OrrcValueError(f"traj must be an orrc Trajectory (from orrc.simulate); got {type(traj).__name__}")
     if traj.values is None:
         raise OrrcValueError(
-            f"the trajectory has no V_M values (controller {traj.controller!r}); simulate Algorithm 1 "
-            "(orrc.PreviewRHC), which reports V_M at every step")
+            f"the trajectory has no {value} values (controller {traj.controller!r}); simulate {algorithm} "
+            f"({controller}), which reports {value} at every step")
     if traj.n_failures or (traj.value_valid is not None and not traj.value_valid.all()):
         bad = np.flatnonzero(~traj.success) if traj.n_failures else np.flatnonzero(~traj.value_valid)
         raise OrrcValueError(
-            f"traj has {bad.size} steps without a valid V_M (t = {bad[:8].tolist()}{'...' if bad.size > 8 else ''}: "
+            f"traj has {bad.size} steps without a valid {value} (t = {bad[:8].tolist()}{'...' if bad.size > 8 else ''}: "
             f"{'the solve failed there' if traj.n_failures else 'the value is not finite'}; see Trajectory.success "
-            "and value_valid): the lemmas are about Algorithm 1's optimal values, which these steps do not have. "
+            f"and value_valid): the lemmas are about {algorithm}'s optimal values, which these steps do not have. "
             "Re-run with solver options that converge (e.g. a larger ipopt.max_iter)")
+    if not (np.all(np.isfinite(traj.costs)) and np.all(np.isfinite(traj.sigma))):
+        raise OrrcValueError("traj has non-finite stage costs or σ (the run overflowed; see the NonFiniteWarning "
+                             "of orrc.simulate): the inequalities cannot be checked")
+    return traj
+
+
+def _trajectory(traj, M):
+    traj = _valued_trajectory(traj, "V_M", "Algorithm 1", "orrc.PreviewRHC")
     M = as_int("M", M, minimum=2)
     if traj.preview_w < traj.preview_c:
         raise OrrcValueError(
@@ -115,9 +126,6 @@ def _trajectory(traj, M):
     e = np.einsum("ij,ij->i", traj.w_all, traj.w_all)
     if len(e) < traj.T + M - 1:
         raise OrrcValueError(f"traj.w_all has {len(e)} rows; expected at least T + M - 1 = {traj.T + M - 1}")
-    if not (np.all(np.isfinite(traj.costs)) and np.all(np.isfinite(traj.sigma))):
-        raise OrrcValueError("traj has non-finite stage costs or σ (the run overflowed; see the NonFiniteWarning "
-                             "of orrc.simulate): the inequalities cannot be checked")
     return traj, M, e
 
 
