@@ -21,6 +21,7 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
+from ._casadi import DropsBuffers, buffered
 from ._validate import (OrrcValueError, _describe, as_array, as_float, as_int, as_square, check_evaluates,
                         check_finite_result, check_psd, probe_points)
 
@@ -195,7 +196,7 @@ class QuadraticCost(StageCost):
         return f"QuadraticCost(n={self.n}, m={self.m}, alpha_lo={self.alpha_lo:.4g})"
 
 
-class Cost(StageCost):
+class Cost(DropsBuffers, StageCost):
     """A general stage cost written with CasADi operations.
 
     Parameters
@@ -245,7 +246,9 @@ class Cost(StageCost):
         return self._fun(x, u, p) if self.n_params else self._fun(x, u)
 
     def _value(self, x, u, p) -> float:
-        return float(self.function(x, u, self.default_params if p is None else p))
+        call = buffered(self, "c", lambda: self.function)  # numpy buffers: no CasADi matrices per call
+        call(x, u, self.default_params if p is None else p)
+        return float(call.res[0][0])
 
     def sigma(self, x) -> float:
         """σ(x) of Assumption 2: the user's function (default ‖x‖²); refused unless a finite number >= 0."""

@@ -18,6 +18,7 @@ import pytest
 import orrc
 import orrc.viz  # the plotting functions (not loaded by `import orrc`)
 from bad_input import assert_bad_input, case, params
+from conftest import FORCED_FAILURE
 from orrc import certify, checks, disturbances as dist, examples as exs, theory as th
 
 E = orrc.OrrcValueError
@@ -75,7 +76,7 @@ def overflowed_traj():
 def failed_traj():
     """A run whose solves all fail (max_failures=None): the checks must refuse it."""
     ex = pend()
-    rhc = orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds, solver_options={"ipopt.max_iter": 1},
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds, solver_options=FORCED_FAILURE,
                           max_failures=None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", orrc.SolverWarning)

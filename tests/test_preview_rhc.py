@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import orrc
-from conftest import batch_optimum, random_lq
+from conftest import FORCED_FAILURE, batch_optimum, random_lq
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -130,8 +130,7 @@ def test_solver_failure_is_reported_warned_and_falls_back():
     """A failed direct plan() reports success=False with the status and warns once, naming what the
     plan holds. (The closed loop's failure policy: tests/test_solver_failures.py.)"""
     ex = orrc.examples.inverted_pendulum()
-    rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds,
-                          solver_options={"ipopt.max_iter": 1})
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds, solver_options=FORCED_FAILURE)
     with pytest.warns(orrc.SolverWarning, match="did not succeed.*the solver's last iterate"):
         plan = rhc.plan(np.array([0.5, 0.0]), np.zeros((10, 2)))
     assert not plan.success and "Maximum_Iterations" in plan.status
