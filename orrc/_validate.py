@@ -77,13 +77,37 @@ def as_float(name: str, value, *, minimum: float | None = None, maximum: float |
     return value
 
 
-def check_psd(name: str, mat: np.ndarray, *, strict: bool = False, tol: float = 1e-12) -> None:
-    if not np.allclose(mat, mat.T, atol=1e-10 * max(1.0, np.abs(mat).max())):
+def eigvalsh_tol(mat: np.ndarray) -> float:
+    """N·eps·‖mat‖₂: a bound on the rounding error of every eigenvalue ``np.linalg.eigvalsh`` returns
+    for the symmetric N×N ``mat``. LAPACK's symmetric eigensolvers are backward stable (the computed
+    eigenvalues are exact for mat + E, ‖E‖₂ <= p(N)·eps·‖mat‖₂ with p(N) a modest function of N;
+    p(N) = N here) and, by Weyl's inequality, each eigenvalue moves by at most ‖E‖₂. The bound
+    scales with the data and holds whatever BLAS kernel runs."""
+    if mat.size == 0:
+        return 0.0
+    return mat.shape[0] * float(np.finfo(float).eps) * float(np.linalg.norm(mat, 2))
+
+
+def check_psd(name: str, mat: np.ndarray, *, strict: bool = False, tol: float | None = None) -> None:
+    """Check that the square ``mat`` is symmetric positive semidefinite (``strict``: definite).
+
+    Every test is relative to the scale of ``mat``, so a matrix passes or fails the same way
+    whatever its units and whatever BLAS kernel computes its eigenvalues:
+
+    * symmetric: max |mat - matᵀ| <= 1e-10 max |mat|. A matrix built symmetric but computed in
+      floating point (G Gᵀ, a sum of such) is off by at most ~2k·eps·max|mat| (k the inner
+      dimension), far below; a matrix that is not meant to be symmetric is far above.
+    * eigenvalues: ``tol`` (default :func:`eigvalsh_tol`, N·eps·‖mat‖₂) bounds their rounding
+      error. λ_min < -tol proves that mat is indefinite; with ``strict``, λ_min <= tol cannot be
+      told apart from a singular matrix, so it is refused as not positive definite.
+    """
+    if mat.size and not np.abs(mat - mat.T).max() <= 1e-10 * np.abs(mat).max():
         raise OrrcValueError(f"{name} must be symmetric")
     lo = float(np.linalg.eigvalsh(mat).min()) if mat.size else 0.0
+    tol = eigvalsh_tol(mat) if tol is None else tol
     if strict and lo <= tol:
         raise OrrcValueError(f"{name} must be positive definite; its smallest eigenvalue is {lo:.3g}")
-    if not strict and lo < -tol * max(1.0, np.abs(mat).max()):
+    if not strict and lo < -tol:
         raise OrrcValueError(f"{name} must be positive semidefinite; its smallest eigenvalue is {lo:.3g}")
 
 

@@ -19,7 +19,7 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
-from ._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd
+from ._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd, eigvalsh_tol
 
 
 def _norm_sq(x) -> float:
@@ -87,7 +87,9 @@ class QuadraticCost(StageCost):
         self.default_params = np.concatenate([Q.ravel(), R.ravel()])
         lam = float(np.linalg.eigvalsh(Q).min())
         self.alpha_lo = lam if alpha_lo is None else as_float("alpha_lo", alpha_lo, minimum=0.0)
-        if self.alpha_lo > lam + 1e-12:
+        # λ_min(Q) is known to within its rounding error n·eps·‖Q‖₂ (eigvalsh_tol): a declared
+        # alpha_lo above it by more than that is not a lower bound, at any scale of Q
+        if self.alpha_lo > lam + eigvalsh_tol(Q):
             raise OrrcValueError(
                 f"alpha_lo={self.alpha_lo} is not a valid lower bound: c(x,u) >= alpha_lo*|x|^2 "
                 f"needs alpha_lo <= lambda_min(Q) = {lam:.6g}")
