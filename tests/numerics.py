@@ -34,3 +34,28 @@ def sign_root_error(A, v, P) -> float:
     0/1 diagonal projector as a boolean mask), to first order."""
     v = np.asarray(v, dtype=float)
     return eigvalsh_error(A) / float(v[P] @ v[P])
+
+
+def running_regret_error(costs, w, gamma) -> np.ndarray:
+    """A bound on how far two ways of computing R^p_t(γ) = Σ_{s<t} c_s - γ Σ_{s<t} ‖w_s‖², t = 1..T,
+    can differ (e.g. the cumulative sum of c_s - γ‖w_s‖², or the two cumulative sums subtracted).
+
+    Recursive summation of t terms is off by at most (t - 1)·eps·Σ|terms| (first order), each
+    ‖w_s‖² by n·eps·‖w_s‖² and each product or difference by eps. R cancels (it crosses 0 where
+    γ is near the running ratio), so the error is relative to the sums, not to R: per way
+    (t + n + 2)·eps·(Σ|c_s| + γ Σ‖w_s‖²), and twice that between two ways.
+    """
+    costs, w = np.asarray(costs, dtype=float), np.asarray(w, dtype=float)
+    t = np.arange(1, len(costs) + 1)
+    e = np.sum(w * w, axis=1)
+    return 2 * (t + w.shape[1] + 2) * EPS * (np.cumsum(np.abs(costs)) + gamma * np.cumsum(e))
+
+
+def assert_within(actual, desired, err) -> None:
+    """|actual - desired| <= err elementwise (err an array of error bounds, e.g. from
+    :func:`running_regret_error`), with the worst step in the message."""
+    actual, desired = np.asarray(actual, dtype=float), np.asarray(desired, dtype=float)
+    excess = np.abs(actual - desired) - np.asarray(err, dtype=float)
+    k = int(np.argmax(excess))
+    assert actual.shape == desired.shape and excess[k] <= 0, (
+        f"at index {k}: |{actual.flat[k]!r} - {desired.flat[k]!r}| exceeds the bound {np.asarray(err).flat[k]:.3g}")
