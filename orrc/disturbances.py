@@ -118,8 +118,10 @@ class Ball:
         return self.radius ** 2
 
     def contains(self, w, tol: float = 1e-9) -> bool:
+        """Every row of ``w`` lies in the ball, up to a relative ``tol`` (‖w‖ is computed to n·eps
+        relative; the allowance scales with the radius, so the test does not depend on units)."""
         w = as_array("w", w)
-        return bool(np.all(np.linalg.norm(w.reshape(-1, self.n), axis=1) <= self.radius + tol))
+        return bool(np.all(np.linalg.norm(w.reshape(-1, self.n), axis=1) <= self.radius * (1 + tol)))
 
     def sample(self, L: int, seed=None) -> np.ndarray:
         rng = _rng(seed)
@@ -157,8 +159,11 @@ class Box:
         return np.array(list(itertools.product(*zip(self.lo, self.hi))), dtype=float)
 
     def contains(self, w, tol: float = 1e-9) -> bool:
+        """Every row of ``w`` lies in the box, up to ``tol`` relative to each coordinate's scale
+        max(|lo_i|, |hi_i|) (so the test does not depend on units)."""
         w = as_array("w", w).reshape(-1, self.n)
-        return bool(np.all(w >= self.lo - tol) and np.all(w <= self.hi + tol))
+        slack = tol * np.maximum(np.abs(self.lo), np.abs(self.hi))
+        return bool(np.all(w >= self.lo - slack) and np.all(w <= self.hi + slack))
 
     def sample(self, L: int, seed=None) -> np.ndarray:
         return self.lo + (self.hi - self.lo) * _rng(seed).random((L, self.n))
