@@ -6,7 +6,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: book test bench clean
+.PHONY: book test bench test-kernels clean
 
 $(STAMP): requirements.txt pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -23,6 +23,10 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	set -eo pipefail; $(PY) -m benchmarks.run
+
+# a local check, not called by `make test` or CI: the fast suite once per OpenBLAS kernel
+test-kernels: $(STAMP)
+	set -eo pipefail; $(PY) -m tools.test_kernels
 
 clean:
 	rm -rf _build .pytest_cache
