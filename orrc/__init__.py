@@ -4,14 +4,13 @@ The package behind the book: systems, costs, disturbances, the paper's
 controllers, the closed-loop simulator and the metrics. Plotting lives in
 ``orrc.viz`` and is imported only by the book.
 """
-from ._validate import OrrcValueError
+from ._validate import NonFiniteWarning, OrrcValueError, SizeWarning
 from .controllers import LQR, Clairvoyant, Controller, Decision, Observation, PreviewRHC, ZeroInput
 from .costs import Cost, CostSequence, QuadraticCost, StageCost
 from .disturbances import Ball, Box
 from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
 from .simulate import Trajectory, simulate
-from .solvers.nlp import SolverWarning
-from .solvers.plan import Plan
+from .solvers.plan import Plan, SolverError, SolverWarning
 from .systems import LinearSystem, NonlinearSystem, System
 from . import config, disturbances, examples
 from . import certify, checks, theory
@@ -19,7 +18,7 @@ from . import certify, checks, theory
 __version__ = "0.1.0"
 
 __all__ = [
-    "OrrcValueError", "SolverWarning",
+    "OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning",
     "System", "LinearSystem", "NonlinearSystem",
     "StageCost", "QuadraticCost", "Cost", "CostSequence",
     "Ball", "Box", "disturbances", "examples",

@@ -1,11 +1,25 @@
-"""Run-size switch: ``ORRC_QUICK=1`` in the environment shrinks long runs.
+"""Run-size switch and computation limits.
 
-The test suite sets it when it executes the chapters, so the same chapter source
-runs at full size in the book and at reduced size under test (never a copy).
+* ``ORRC_QUICK=1`` in the environment shrinks long runs (:func:`quick`, :func:`size`). The test
+  suite sets it when it executes the chapters, so the same chapter source runs at full size in
+  the book and at reduced size under test (never a copy).
+* Limits on the size of one computation (:class:`Limits`): before a computation whose memory or
+  time grows fast (the exact LQ law at a long horizon, the vertices of a box in many
+  dimensions, a worst-case attenuation over a long T, ...) ``orrc`` estimates it and refuses
+  it above ``max_bytes`` / ``max_ops`` with an ``orrc.OrrcValueError`` that states the
+  estimate and the limit, or warns (``orrc.SizeWarning``) above ``warn_bytes`` / ``warn_ops``.
+  Defaults: refuse above 4 GiB or 1e11 operations (about 100 s), warn above 1 GiB or 1e10
+  operations (about 10 s). Change them for the session with :func:`set_limits`, for a block
+  with ``with orrc.config.limits(max_ops=1e12): ...``, or before start-up with the
+  environment variables ``ORRC_MAX_BYTES``, ``ORRC_MAX_OPS``, ``ORRC_WARN_BYTES``,
+  ``ORRC_WARN_OPS`` (numbers; ``inf`` switches a limit off). The mechanism is
+  ``orrc._validate.check_size``.
 """
 from __future__ import annotations
 
+import contextlib
 import os
+from dataclasses import dataclass, fields, replace
 
 
 def quick() -> bool:
@@ -16,3 +30,85 @@ def quick() -> bool:
 def size(full: int, quick_size: int) -> int:
     """``full`` normally, ``quick_size`` under ORRC_QUICK=1."""
     return quick_size if quick() else full
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The size limits of one computation (see the module docstring).
+
+    max_bytes, max_ops : refuse (``OrrcValueError``) above these estimates.
+    warn_bytes, warn_ops : warn (``orrc.SizeWarning``) above these.
+    """
+
+    max_bytes: float = 4 * 2 ** 30
+    max_ops: float = 1e11
+    warn_bytes: float = 2 ** 30
+    warn_ops: float = 1e10
+
+
+_ENV = {"max_bytes": "ORRC_MAX_BYTES", "max_ops": "ORRC_MAX_OPS", "warn_bytes": "ORRC_WARN_BYTES",
+        "warn_ops": "ORRC_WARN_OPS"}
+
+
+def _checked(name: str, value) -> float:
+    from ._validate import as_float
+
+    return as_float(name, value, minimum=0.0, strict_min=True, allow_inf=True)
+
+
+def _from_environment() -> Limits:
+    from ._validate import OrrcValueError
+
+    values = {}
+    for field, var in _ENV.items():
+        text = os.environ.get(var, "").strip()
+        if text:
+            try:
+                values[field] = _checked(var, float(text))
+            except ValueError as exc:
+                raise OrrcValueError(f"the environment variable {var} must be a positive number (bytes or "
+                                     f"operations, or inf); got {text!r}") from exc
+    return Limits(**values)
+
+
+_current: Limits | None = None
+
+
+def get_limits() -> Limits:
+    """The limits in force (read from the environment on first use, then as set)."""
+    global _current
+    if _current is None:
+        _current = _from_environment()
+    return _current
+
+
+def set_limits(**changes) -> Limits:
+    """Change some limits for the rest of the session (keywords: the fields of :class:`Limits`);
+    returns the previous limits, so ``set_limits(**vars(previous))`` restores them."""
+    global _current
+    from ._validate import check_options
+
+    check_options("limit", changes, [f.name for f in fields(Limits)])
+    previous = get_limits()
+    new = replace(previous, **{k: _checked(k, v) for k, v in changes.items()})
+    if new.warn_bytes > new.max_bytes or new.warn_ops > new.max_ops:  # a warning threshold above its limit
+        new = replace(new, warn_bytes=min(new.warn_bytes, new.max_bytes), warn_ops=min(new.warn_ops, new.max_ops))
+    _current = new
+    return previous
+
+
+@contextlib.contextmanager
+def limits(**changes):
+    """``with orrc.config.limits(max_ops=1e12): ...`` -- other limits inside the block only.
+
+    Yields the limits in force inside the block. ``math.inf`` switches a limit off.
+    """
+    previous = set_limits(**changes)
+    try:
+        yield get_limits()
+    finally:
+        global _current
+        _current = previous
+
+
+__all__ = ["quick", "size", "Limits", "get_limits", "set_limits", "limits"]

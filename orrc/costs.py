@@ -19,12 +19,19 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
-from ._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd, eigvalsh_tol
+from ._validate import (OrrcValueError, _describe, as_array, as_float, as_int, as_square, check_evaluates,
+                        check_finite_result, check_psd, eigvalsh_tol, probe_points)
 
 
 def _norm_sq(x) -> float:
     x = np.asarray(x, dtype=float)
     return float(x @ x)
+
+
+def _name(name) -> str:
+    if not isinstance(name, str):
+        raise OrrcValueError(f"name must be a string; got {type(name).__name__}")
+    return name
 
 
 class StageCost:
@@ -41,31 +48,71 @@ class StageCost:
         """CasADi expression of c(x, u; p)."""
         raise NotImplementedError
 
-    def value(self, x, u, p=None) -> float:  # pragma: no cover - abstract
-        """Numeric c(x, u; p) (p=None: the default parameters)."""
+    def _value(self, x, u, p) -> float:  # pragma: no cover - abstract
+        """c(x, u; p) for arguments already checked (p=None: the default parameters)."""
         raise NotImplementedError
+
+    def value(self, x, u, p=None) -> float:
+        """Numeric c(x, u; p) (p=None: the default parameters); x, u and p are validated, and a
+        value that overflows for these finite arguments is an error."""
+        x, u, p = self._check_point(x, u, p)
+        with np.errstate(over="ignore", invalid="ignore"):
+            c = self._value(x, u, p)
+        return check_finite_result(f"the stage cost c(x, u) of {self.name}", c, "x, u", "rescale x, u or the cost")
 
     def __call__(self, x, u, p=None) -> float:
         return self.value(x, u, p)
 
+    def _check_point(self, x, u, p):
+        x = as_array("x", x, None if self.n is None else (self.n,))
+        u = as_array("u", u, None if self.m is None else (self.m,))
+        if p is not None:
+            P = self.check_params(p, "p") if self.n_params else as_array("p", p, (0,))[None]
+            if P.shape[0] != 1:
+                raise OrrcValueError(f"p must be one parameter vector of length {self.n_params}; got shape "
+                                     f"{np.shape(p)}")
+            p = P[0]
+        return x, u, p
+
     def sigma(self, x) -> float:
         """σ(x) of Assumption 2 (default ‖x‖²)."""
-        return _norm_sq(x)
+        with np.errstate(over="ignore"):
+            s = _norm_sq(as_array("x", x, None if self.n is None else (self.n,)))
+        return check_finite_result("σ(x) = ‖x‖²", s, "x", "rescale x")
 
     def check_dims(self, n: int, m: int) -> None:
         if (self.n is not None and self.n != n) or (self.m is not None and self.m != m):
             raise OrrcValueError(
                 f"the cost is for n={self.n} states and m={self.m} inputs; the system has n={n}, m={m}")
 
-    def check_params(self, params) -> np.ndarray:
-        """Validate a (L, n_params) array of per-step parameters."""
-        params = as_array("cost params", params)
+    def check_params(self, params, name: str = "cost_params") -> np.ndarray:
+        """Validate a (L, n_params) array of per-step parameters (a single row may be 1-D).
+
+        Each row must describe a valid cost of the family (:class:`QuadraticCost`: Q_t PSD and
+        R_t PD); this is where cost data enter, so the solvers need not check them again.
+        """
+        params = as_array(name, params)
         if params.ndim == 1 and self.n_params > 0 and params.shape[0] == self.n_params:
             params = params[None, :]
         if params.ndim != 2 or params.shape[1] != self.n_params:
             raise OrrcValueError(
-                f"cost params must have shape (L, {self.n_params}) for {self.name}; got shape {params.shape}")
+                f"{name} must have shape (L, {self.n_params}) for {self.name}; got shape {params.shape}")
         return params
+
+
+def _alpha_lo(given, largest: float, what: str, tol: float = 0.0) -> float:
+    """α_lo: ``largest`` (the best valid lower bound) unless a smaller one is given.
+
+    ``tol``: the rounding error of ``largest`` (for λ_min(Q), n·eps·‖Q‖₂: :func:`eigvalsh_tol`);
+    a given α_lo above ``largest`` by more than that is not a lower bound, at any scale of Q."""
+    if given is None:
+        return largest
+    given = as_float("alpha_lo", given, minimum=0.0)
+    if given > largest + tol:
+        raise OrrcValueError(
+            f"alpha_lo={given} is not a valid lower bound: c(x,u) >= alpha_lo*|x|^2 needs alpha_lo <= "
+            f"{what} = {largest:.6g}")
+    return given
 
 
 class QuadraticCost(StageCost):
@@ -85,19 +132,25 @@ class QuadraticCost(StageCost):
         self.n, self.m = Q.shape[0], R.shape[0]
         self.n_params = self.n * self.n + self.m * self.m
         self.default_params = np.concatenate([Q.ravel(), R.ravel()])
-        lam = float(np.linalg.eigvalsh(Q).min())
-        self.alpha_lo = lam if alpha_lo is None else as_float("alpha_lo", alpha_lo, minimum=0.0)
-        # λ_min(Q) is known to within its rounding error n·eps·‖Q‖₂ (eigvalsh_tol): a declared
-        # alpha_lo above it by more than that is not a lower bound, at any scale of Q
-        if self.alpha_lo > lam + eigvalsh_tol(Q):
-            raise OrrcValueError(
-                f"alpha_lo={self.alpha_lo} is not a valid lower bound: c(x,u) >= alpha_lo*|x|^2 "
-                f"needs alpha_lo <= lambda_min(Q) = {lam:.6g}")
-        self.name = name
+        self.alpha_lo = _alpha_lo(alpha_lo, float(np.linalg.eigvalsh(Q).min()), "lambda_min(Q)", eigvalsh_tol(Q))
+        self.name = _name(name)
+
+    def _rows(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(Q_t, R_t) stacks (L, n, n), (L, m, m) from checked parameter rows (L, n_params)."""
+        nn = self.n * self.n
+        return P[:, :nn].reshape(-1, self.n, self.n), P[:, nn:].reshape(-1, self.m, self.m)
+
+    def check_params(self, params, name: str = "cost_params") -> np.ndarray:
+        """Validate (L, n_params) rows (vec Q_t, vec R_t): each Q_t symmetric PSD, each R_t symmetric PD."""
+        P = super().check_params(params, name)
+        Qs, Rs = self._rows(P)
+        check_psd(f"{name}: every Q_t", Qs)
+        check_psd(f"{name}: every R_t", Rs, strict=True)
+        return P
 
     def unpack(self, p) -> tuple[np.ndarray, np.ndarray]:
-        """(Q, R) from a parameter vector."""
-        p = np.asarray(p, dtype=float)
+        """(Q, R) from a parameter vector (vec Q, vec R) of length n_params."""
+        p = as_array("p", p, (self.n_params,))
         nn = self.n * self.n
         return p[:nn].reshape(self.n, self.n), p[nn:].reshape(self.m, self.m)
 
@@ -107,34 +160,34 @@ class QuadraticCost(StageCost):
         R = ca.reshape(p[nn:], self.m, self.m)
         return ca.bilin(Q, x, x) + ca.bilin(R, u, u)
 
-    def value(self, x, u, p=None) -> float:
+    def _value(self, x, u, p) -> float:
         if p is None:
             Q, R = self.Q, self.R
         else:
-            Q, R = self.unpack(p)
+            nn = self.n * self.n
+            Q, R = p[:nn].reshape(self.n, self.n), p[nn:].reshape(self.m, self.m)
         return float(x @ Q @ x + u @ R @ u)
 
     def sequence(self, Qs, Rs=None) -> "CostSequence":
         """Time-varying costs c_t(x, u) = xᵀQ_t x + uᵀR_t u (Qs: (L, n, n), Rs: (L, m, m)).
 
-        ``Rs=None`` keeps R fixed. Each Q_t is checked PSD, each R_t PD.
+        ``Rs=None`` keeps R fixed. Each Q_t is checked PSD, each R_t PD (by :class:`CostSequence`),
+        and α_lo of the sequence is min_t λ_min(Q_t).
         """
         Qs = as_array("Qs", Qs)
-        if Qs.ndim != 3 or Qs.shape[1:] != (self.n, self.n):
-            raise OrrcValueError(f"Qs must have shape (L, {self.n}, {self.n}); got shape {Qs.shape}")
+        if Qs.ndim != 3 or Qs.shape[1:] != (self.n, self.n) or len(Qs) == 0:
+            raise OrrcValueError(f"Qs must have shape (L, {self.n}, {self.n}) with L >= 1; got shape {Qs.shape}")
         Rs = np.broadcast_to(self.R, (len(Qs), self.m, self.m)) if Rs is None else as_array("Rs", Rs)
         if Rs.shape != (len(Qs), self.m, self.m):
             raise OrrcValueError(f"Rs must have shape ({len(Qs)}, {self.m}, {self.m}); got shape {Rs.shape}")
-        for t in range(len(Qs)):
-            check_psd(f"Qs[{t}]", Qs[t])
-            check_psd(f"Rs[{t}]", Rs[t], strict=True)
+        check_psd("Qs: every Q_t", Qs)
+        check_psd("Rs: every R_t", Rs, strict=True)
         params = np.concatenate([Qs.reshape(len(Qs), -1), Rs.reshape(len(Rs), -1)], axis=1)
-        alpha_lo = min(float(np.linalg.eigvalsh(Q).min()) for Q in Qs)
-        return CostSequence(self, params, alpha_lo=alpha_lo)
+        return CostSequence(self, params)
 
     def scaled(self, scales) -> "CostSequence":
         """Time-varying costs c_t = s_t (xᵀQx) + uᵀRu, a simple adversarial family (s_t > 0)."""
-        scales = as_array("scales", scales, ndim=1)
+        scales = as_array("scales", scales, ndim=1, allow_empty=False)
         if np.any(scales <= 0):
             raise OrrcValueError(f"scales must be positive; got minimum {scales.min():.3g}")
         return self.sequence(scales[:, None, None] * self.Q[None])
@@ -162,6 +215,8 @@ class Cost(StageCost):
                  sigma: Callable | None = None, alpha_lo: float | None = None, name: str = "cost"):
         if not callable(fun):
             raise OrrcValueError(f"fun must be callable; got {type(fun).__name__}")
+        if sigma is not None and not callable(sigma):
+            raise OrrcValueError(f"sigma must be None or a callable sigma(x) >= 0; got {type(sigma).__name__}")
         self.n = as_int("n", n, minimum=1)
         self.m = as_int("m", m, minimum=1)
         self.n_params = as_int("n_params", n_params, minimum=0)
@@ -170,7 +225,7 @@ class Cost(StageCost):
         self.default_params = as_array("default_params", default_params, (self.n_params,))
         self.alpha_lo = None if alpha_lo is None else as_float("alpha_lo", alpha_lo, minimum=0.0)
         self._sigma = sigma
-        self.name = name
+        self.name = _name(name)
         self._fun = fun
         x, u, p = ca.SX.sym("x", self.n), ca.SX.sym("u", self.m), ca.SX.sym("p", self.n_params)
         try:
@@ -182,16 +237,30 @@ class Cost(StageCost):
         if out.shape != (1, 1):
             raise OrrcValueError(f"the cost function must return a scalar; got shape {out.shape}")
         self.function = ca.Function("c", [x, u, p], [out])
+        check_evaluates("fun", "the cost c(x, u; default_params)",
+                        lambda x, u: self.function(x, u, self.default_params), self.n, self.m)
+        for x0, _ in probe_points(self.n, self.m):
+            self.sigma(x0)  # σ must be a finite number >= 0 (raises otherwise)
 
     def expr(self, x, u, p):
         return self._fun(x, u, p) if self.n_params else self._fun(x, u)
 
-    def value(self, x, u, p=None) -> float:
-        p = self.default_params if p is None else p
-        return float(self.function(x, u, p))
+    def _value(self, x, u, p) -> float:
+        return float(self.function(x, u, self.default_params if p is None else p))
 
     def sigma(self, x) -> float:
-        return _norm_sq(x) if self._sigma is None else float(self._sigma(np.asarray(x, dtype=float)))
+        """σ(x) of Assumption 2: the user's function (default ‖x‖²); refused unless a finite number >= 0."""
+        if self._sigma is None:
+            return _norm_sq(x)
+        x = as_array("x", x, (self.n,))
+        out = self._sigma(x)
+        try:
+            s = float(np.asarray(out, dtype=float).reshape(()))
+        except (TypeError, ValueError) as exc:
+            raise OrrcValueError(f"sigma(x) must return one real number; at x={x} it gave {_describe(out)}") from exc
+        if not (s >= 0.0 and np.isfinite(s)):
+            raise OrrcValueError(f"sigma(x) must be a finite number >= 0 (Assumption 2); at x={x} it is {s}")
+        return s
 
 
 class CostSequence:
@@ -205,20 +274,32 @@ class CostSequence:
         if not isinstance(stage, StageCost):
             raise OrrcValueError(f"stage must be a StageCost; got {type(stage).__name__}")
         self.stage = stage
-        self.params = stage.check_params(params)
+        self.params = stage.check_params(params, "params")  # every row checked (Q_t PSD, R_t PD)
         if len(self.params) == 0:
             raise OrrcValueError("a cost sequence needs at least one step; got 0 rows of params")
-        self.alpha_lo = stage.alpha_lo if alpha_lo is None else alpha_lo
+        self.params.flags.writeable = False
+        # α_lo of the SEQUENCE: min_t λ_min(Q_t) for quadratic costs; a general family's declared
+        # α_lo holds for every p (Cost's contract), so it holds for the sequence
+        own, tol = stage.alpha_lo, 0.0
+        if isinstance(stage, QuadraticCost):
+            lam = np.linalg.eigvalsh(stage._rows(self.params)[0])       # (L, n)
+            own, tol = float(lam[:, 0].min()), stage.n * float(np.finfo(float).eps) * float(np.abs(lam).max())
+        self.alpha_lo = _alpha_lo(alpha_lo, own, "min_t lambda_min(Q_t)", tol) if own is not None else (
+            None if alpha_lo is None else as_float("alpha_lo", alpha_lo, minimum=0.0))
 
     def __len__(self):
         return len(self.params)
 
     def window(self, t: int, length: int) -> np.ndarray:
         """Parameters of c_t, ..., c_{t+length-1} (the last row repeated past the end)."""
+        t = as_int("t", t, minimum=0)
+        length = as_int("length", length, minimum=0)
         idx = np.minimum(np.arange(t, t + length), len(self.params) - 1)
         return self.params[idx]
 
     def value(self, t: int, x, u) -> float:
+        """c_t(x, u) (the last cost past the end of the sequence)."""
+        t = as_int("t", t, minimum=0)
         return self.stage.value(x, u, self.params[min(t, len(self.params) - 1)])
 
     def sigma(self, x) -> float:

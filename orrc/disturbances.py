@@ -7,21 +7,27 @@ Every random generator takes ``seed`` (an int or a ``numpy.random.Generator``).
 """
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 
-from ._validate import OrrcValueError, as_array, as_float, as_int
+from ._validate import OrrcValueError, as_array, as_float, as_int, as_seed, check_finite_result, check_size
 
 KINDS = ("zero", "constant", "sinusoid", "uniform_ball", "uniform_box", "gaussian", "bursts")
 
 
-def _rng(seed):
-    return seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+def _rng(seed, name: str = "seed") -> np.random.Generator:
+    """The generator of ``seed`` (None, an int >= 0, a Generator, ...), refused otherwise."""
+    return as_seed(name, seed)
+
+
+def _sequence_size(L: int, n: int) -> None:
+    check_size(f"a disturbance sequence of L={L} rows and n={n} columns", nbytes=3 * 8.0 * L * n,
+               ops=20.0 * L * n, hint="lower L")
 
 
 def _dims(L, n):
-    return as_int("L", L, minimum=1), as_int("n", n, minimum=1)
+    L, n = as_int("L", L, minimum=1), as_int("n", n, minimum=1)
+    _sequence_size(L, n)
+    return L, n
 
 
 def zero(L: int, n: int) -> np.ndarray:
@@ -42,6 +48,7 @@ def sinusoid(L: int, n: int, amplitude: float = 1.0, period: float = 20.0, phase
     L, n = _dims(L, n)
     amplitude = as_float("amplitude", amplitude, minimum=0.0)
     period = as_float("period", period, minimum=0.0, strict_min=True)
+    phase = as_float("phase", phase)
     t = np.arange(L)[:, None]
     return amplitude * np.sin(2 * np.pi * t / period + phase + 2 * np.pi * np.arange(n)[None, :] / n)
 
@@ -82,8 +89,9 @@ def bursts(L: int, n: int, magnitude: float = 1.0, every: int = 25, duration: in
 
 def make(kind: str, L: int, n: int, scale: float = 1.0, seed=None) -> np.ndarray:
     """A disturbance of a named ``kind`` (one of :data:`KINDS`) with size ``scale``."""
-    if kind not in KINDS:
+    if not isinstance(kind, str) or kind not in KINDS:
         raise OrrcValueError(f"unknown disturbance kind {kind!r}; allowed: {list(KINDS)}")
+    scale = as_float("scale", scale, minimum=0.0)
     if kind == "zero":
         return zero(L, n)
     if kind == "constant":
@@ -102,14 +110,25 @@ def make(kind: str, L: int, n: int, scale: float = 1.0, seed=None) -> np.ndarray
 def energy(w) -> float:
     """Σ_t ‖w_t‖² of a sequence (L, n)."""
     w = as_array("w", w, ndim=2)
-    return float(np.sum(w * w))
+    with np.errstate(over="ignore"):
+        return check_finite_result("the energy Σ‖w_t‖²", float(np.sum(w * w)), "w", "rescale w")
+
+
+def _points(name: str, w, n: int) -> np.ndarray:
+    """w as an (L, n) array: one point (n,) or L points (L, n)."""
+    w = as_array(name, w)
+    if w.ndim == 1 and w.shape[0] == n:
+        return w[None, :]
+    if w.ndim != 2 or w.shape[1] != n:
+        raise OrrcValueError(f"{name} must have shape ({n},) or (L, {n}); got shape {w.shape}")
+    return w
 
 
 class Ball:
     """W = {w : ‖w‖₂ <= radius} ⊂ R^n."""
 
     def __init__(self, radius: float, n: int):
-        self.radius = as_float("radius", radius, minimum=0.0)
+        self.radius = as_float("radius", radius, minimum=0.0, maximum=1e150)  # radius² stays a float
         self.n = as_int("n", n, minimum=1)
 
     @property
@@ -118,12 +137,17 @@ class Ball:
         return self.radius ** 2
 
     def contains(self, w, tol: float = 1e-9) -> bool:
-        """Every row of ``w`` lies in the ball, up to a relative ``tol`` (‖w‖ is computed to n·eps
-        relative; the allowance scales with the radius, so the test does not depend on units)."""
-        w = as_array("w", w)
-        return bool(np.all(np.linalg.norm(w.reshape(-1, self.n), axis=1) <= self.radius * (1 + tol)))
+        """True when every row of w ((n,) or (L, n)) lies in the ball, up to a relative ``tol``
+        (‖w‖ is computed to n·eps relative; the allowance scales with the radius, so the test
+        does not depend on units)."""
+        w = _points("w", w, self.n)
+        tol = as_float("tol", tol, minimum=0.0)
+        return bool(np.all(np.linalg.norm(w, axis=1) <= self.radius * (1 + tol)))
 
     def sample(self, L: int, seed=None) -> np.ndarray:
+        """L points drawn uniformly from the ball (i.i.d.), shape (L, n)."""
+        L = as_int("L", L, minimum=1)
+        _sequence_size(L, self.n)
         rng = _rng(seed)
         d = rng.standard_normal((L, self.n))
         d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
@@ -142,12 +166,15 @@ class Box:
         if n is None:
             n = max(lo.size, hi.size)
         self.n = as_int("n", n, minimum=1)
-        try:
-            self.lo, self.hi = np.broadcast_to(lo, (self.n,)).copy(), np.broadcast_to(hi, (self.n,)).copy()
-        except ValueError as exc:
-            raise OrrcValueError(f"lo and hi must be scalars or length-{self.n} arrays; got {lo.shape}, {hi.shape}") from exc
+        if lo.ndim != 1 or hi.ndim != 1 or lo.size not in (1, self.n) or hi.size not in (1, self.n):
+            raise OrrcValueError(f"lo and hi must be scalars or length-{self.n} arrays; got shapes "
+                                 f"{lo.shape}, {hi.shape}")
+        self.lo, self.hi = np.broadcast_to(lo, (self.n,)).copy(), np.broadcast_to(hi, (self.n,)).copy()
         if np.any(self.lo > self.hi):
             raise OrrcValueError(f"need lo <= hi in every coordinate; got lo={self.lo}, hi={self.hi}")
+        if max(np.abs(self.lo).max(), np.abs(self.hi).max()) > 1e150 / np.sqrt(self.n):
+            raise OrrcValueError(f"lo and hi must be at most 1e150/sqrt(n) in magnitude (so that max ‖w‖² is a "
+                                 f"float); got lo={self.lo}, hi={self.hi}")
 
     @property
     def max_norm_sq(self) -> float:
@@ -155,18 +182,28 @@ class Box:
         return float(np.sum(np.maximum(self.lo ** 2, self.hi ** 2)))
 
     def vertices(self) -> np.ndarray:
-        """The 2^n corners of the box, shape (2^n, n)."""
-        return np.array(list(itertools.product(*zip(self.lo, self.hi))), dtype=float)
+        """The 2^n corners of the box, shape (2^n, n), in the order of ``itertools.product``
+        (the first coordinate varies slowest). Refused when 2^n rows exceed ``orrc.config``'s limits."""
+        n = self.n
+        check_size(f"the 2^n vertices of a box in n={n} dimensions", nbytes=3 * 8.0 * 2.0 ** n * n,
+                   ops=4.0 * 2.0 ** n * n, hint="lower n, or enumerate vertices lazily")
+        bits = (np.arange(2 ** n)[:, None] >> np.arange(n - 1, -1, -1)[None, :]) & 1
+        return np.where(bits == 1, self.hi, self.lo)
 
     def contains(self, w, tol: float = 1e-9) -> bool:
-        """Every row of ``w`` lies in the box, up to ``tol`` relative to each coordinate's scale
-        max(|lo_i|, |hi_i|) (so the test does not depend on units)."""
-        w = as_array("w", w).reshape(-1, self.n)
+        """True when every row of w ((n,) or (L, n)) lies in the box, up to ``tol`` relative to
+        each coordinate's scale max(|lo_i|, |hi_i|) (so the test does not depend on units)."""
+        w = _points("w", w, self.n)
+        tol = as_float("tol", tol, minimum=0.0)
         slack = tol * np.maximum(np.abs(self.lo), np.abs(self.hi))
         return bool(np.all(w >= self.lo - slack) and np.all(w <= self.hi + slack))
 
     def sample(self, L: int, seed=None) -> np.ndarray:
-        return self.lo + (self.hi - self.lo) * _rng(seed).random((L, self.n))
+        """L points drawn uniformly from the box (i.i.d.), shape (L, n)."""
+        L = as_int("L", L, minimum=1)
+        _sequence_size(L, self.n)
+        r = _rng(seed).random((L, self.n))
+        return self.lo * (1.0 - r) + self.hi * r
 
     def __repr__(self):
         return f"Box(lo={self.lo}, hi={self.hi})"

@@ -2,7 +2,9 @@
 
 Each function returns an :class:`Example` bundling a system, a stage cost, an
 initial state, input bounds (or None) and a suggested horizon M. All disturbances
-are additive (x_{t+1} = f(x_t, u_t) + w_t), as in the paper's examples.
+are additive (x_{t+1} = f(x_t, u_t) + w_t), as in the paper's examples. Parameters are
+validated: a time step dt <= 0, a negative weight, friction or stiffness, a bound u_max <= 0
+raise :class:`~orrc.OrrcValueError` naming the parameter.
 """
 from __future__ import annotations
 
@@ -11,7 +13,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ._validate import as_float
+from ._validate import OrrcValueError, as_float
 from .costs import QuadraticCost, StageCost
 from .systems import LinearSystem, NonlinearSystem, System
 
@@ -33,6 +35,9 @@ class Example:
 def scalar_unstable(a: float = 2.0, b: float = 1.0, q: float = 1.0, r: float = 1.0) -> Example:
     """x_{t+1} = a x_t + b u_t + w_t with |a| > 1 (open-loop unstable), c = q x² + r u²."""
     a, b = as_float("a", a), as_float("b", b)
+    if b == 0.0:
+        raise OrrcValueError("b must be non-zero (with b = 0 the input has no effect); got 0.0")
+    q, r = as_float("q", q, minimum=0.0), as_float("r", r, minimum=0.0, strict_min=True)
     return Example("scalar_unstable", LinearSystem([[a]], [[b]], name=f"x+ = {a:g}x + {b:g}u + w"),
                    QuadraticCost([[q]], [[r]]), np.array([1.0]), 5, None,
                    f"scalar system x+ = {a:g} x + {b:g} u + w, open-loop unstable")
@@ -41,6 +46,7 @@ def scalar_unstable(a: float = 2.0, b: float = 1.0, q: float = 1.0, r: float = 1
 def double_integrator(dt: float = 0.1, q_vel: float = 0.1, r: float = 0.1) -> Example:
     """Position/velocity of a unit mass pushed by u, sampled with period dt (exact ZOH)."""
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
+    q_vel, r = as_float("q_vel", q_vel, minimum=0.0), as_float("r", r, minimum=0.0, strict_min=True)
     A = np.array([[1.0, dt], [0.0, 1.0]])
     B = np.array([[0.5 * dt * dt], [dt]])
     return Example("double_integrator", LinearSystem(A, B, name="double integrator"),
@@ -55,6 +61,8 @@ def two_mass_spring(dt: float = 0.1, k: float = 1.0, c: float = 0.05) -> Example
     """
     import control
 
+    dt = as_float("dt", dt, minimum=0.0, strict_min=True)
+    k, c = as_float("k", k, minimum=0.0), as_float("c", c, minimum=0.0)
     Ac = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [-k, k, -c, c], [k, -k, c, -c]], dtype=float)
     Bc = np.array([[0.0], [0.0], [1.0], [0.0]])
     sysd = control.sample_system(control.ss(Ac, Bc, np.eye(4), np.zeros((4, 1))), dt)
@@ -73,6 +81,9 @@ def inverted_pendulum(dt: float = 0.05, g_over_l: float = 9.81, friction: float 
     Cost c = 10 θ² + ω² + 0.1 u², input bounds |u| <= u_max.
     """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
+    g_over_l = as_float("g_over_l", g_over_l, minimum=0.0)
+    friction = as_float("friction", friction, minimum=0.0)
+    u_max = as_float("u_max", u_max, minimum=0.0, strict_min=True)
 
     def f(x, u, w):
         return ca.vertcat(x[0] + dt * x[1],
@@ -91,6 +102,9 @@ def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0, r: float =
     Cost c = x1² + x2² + r u² (r: the input weight, 0.1 by default), |u| <= u_max.
     """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
+    mu = as_float("mu", mu, minimum=0.0)
+    u_max = as_float("u_max", u_max, minimum=0.0, strict_min=True)
+    r = as_float("r", r, minimum=0.0, strict_min=True)
 
     def f(x, u, w):
         return ca.vertcat(x[0] + dt * x[1],

@@ -8,14 +8,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validate import OrrcValueError, as_float
+from ._validate import OrrcValueError, as_float, check_finite_result
 
 
-def _traj(traj):
+def _traj(traj, name: str = "traj"):
+    """An orrc Trajectory whose costs are finite (an overflowed run gives no metric)."""
     from .simulate import Trajectory
 
     if not isinstance(traj, Trajectory):
-        raise OrrcValueError(f"expected an orrc Trajectory (from orrc.simulate); got {type(traj).__name__}")
+        raise OrrcValueError(f"{name} must be an orrc Trajectory (from orrc.simulate); got {type(traj).__name__}")
+    bad = np.flatnonzero(~np.isfinite(traj.costs))
+    if bad.size:
+        raise OrrcValueError(f"{name}.costs is not finite at {bad.size} steps (from t={bad[0]}): the run overflowed "
+                             "(see the NonFiniteWarning of orrc.simulate), so its metrics are not defined")
     return traj
 
 
@@ -30,8 +35,13 @@ def attenuation_regret(traj, gamma: float, cumulative: bool = False):
     """
     traj = _traj(traj)
     gamma = as_float("gamma", gamma, minimum=0.0)
-    per_step = traj.costs - gamma * np.einsum("ij,ij->i", traj.w, traj.w)
-    return np.cumsum(per_step) if cumulative else float(per_step.sum())
+    if not isinstance(cumulative, bool):
+        raise OrrcValueError(f"cumulative must be True or False; got {cumulative!r}")
+    with np.errstate(over="ignore", invalid="ignore"):
+        per_step = traj.costs - gamma * np.einsum("ij,ij->i", traj.w, traj.w)
+        out = np.cumsum(per_step) if cumulative else float(per_step.sum())
+    return check_finite_result("R^p_T(gamma)", out, f"gamma={gamma:g} and the trajectory's costs",
+                               "the sums exceed the float range")
 
 
 def attenuation_ratio(traj) -> float:
@@ -43,7 +53,9 @@ def attenuation_ratio(traj) -> float:
     energy = float(np.sum(traj.w * traj.w))
     if energy <= 0.0:
         raise OrrcValueError("the attenuation ratio needs a non-zero disturbance (Σ‖w_t‖² = 0 here)")
-    return float(traj.costs.sum()) / energy
+    with np.errstate(over="ignore", invalid="ignore"):
+        ratio = float(traj.costs.sum()) / energy
+    return check_finite_result("the attenuation ratio", ratio, "of the trajectory", "the total cost overflows")
 
 
 def dynamic_regret(traj, reference) -> float:
@@ -52,11 +64,18 @@ def dynamic_regret(traj, reference) -> float:
     :class:`~orrc.Clairvoyant` on the same problem (same x0, w, costs, T), or its
     total cost as a number."""
     traj = _traj(traj)
-    if isinstance(reference, (int, float, np.floating)):
-        ref = float(reference)
+    if isinstance(reference, (int, float, np.floating)) and not isinstance(reference, bool):
+        ref = as_float("reference", reference)
     else:
-        reference = _traj(reference)
+        reference = _traj(reference, "reference")
         if reference.T != traj.T or not np.allclose(reference.w, traj.w) or not np.allclose(reference.x[0], traj.x[0]):
             raise OrrcValueError("the reference trajectory must be on the same problem (same T, x0 and w)")
+        if reference.n_failures:
+            raise OrrcValueError(
+                f"the reference trajectory's solve failed ({reference.n_failures} failed steps, "
+                f"t={reference.failed_steps[:5].tolist()}...): it is not the optimum in hindsight, so the regret "
+                "against it means nothing; re-run the clairvoyant with other solver options")
         ref = float(reference.costs.sum())
-    return float(traj.costs.sum()) - ref
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = float(traj.costs.sum()) - ref
+    return check_finite_result("the dynamic regret", out, "of the trajectories", "the total costs overflow")

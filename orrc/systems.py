@@ -19,7 +19,7 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
-from ._validate import OrrcValueError, as_array, as_int
+from ._validate import OrrcValueError, as_array, as_int, as_square, check_evaluates
 
 
 class System:
@@ -53,15 +53,15 @@ class LinearSystem(System):
     """
 
     def __init__(self, A, B, name: str = "linear system"):
-        A = np.atleast_2d(as_array("A", A))
-        if A.ndim != 2 or A.shape[0] != A.shape[1]:
-            raise OrrcValueError(f"A must be a square matrix; got shape {A.shape}")
+        A = as_square("A", A)
         B = as_array("B", B)
         if B.ndim == 1:
             B = B.reshape(-1, 1)
-        if B.ndim != 2 or B.shape[0] != A.shape[0]:
+        if B.ndim != 2 or B.shape[0] != A.shape[0] or B.shape[1] == 0:
             raise OrrcValueError(
-                f"B must have shape ({A.shape[0]}, m) to match A of shape {A.shape}; got shape {B.shape}")
+                f"B must have shape ({A.shape[0]}, m) with m >= 1 to match A of shape {A.shape}; got shape {B.shape}")
+        if not isinstance(name, str):
+            raise OrrcValueError(f"name must be a string; got {type(name).__name__}")
         self.A, self.B = A, B
         self.n, self.m = B.shape
         self.name = name
@@ -87,9 +87,13 @@ class LinearSystem(System):
         return ca.mtimes(ca.DM(self.A), x) + ca.mtimes(ca.DM(self.B), u) + w
 
     def step(self, x, u, w) -> np.ndarray:
-        """One step of the dynamics (validated)."""
+        """One step of the dynamics (validated); raises FloatingPointError if the result overflows."""
         x, u, w = self.check_step_args(x, u, w)
-        return self.A @ x + self.B @ u + w
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = self.A @ x + self.B @ u + w
+        if not np.all(np.isfinite(out)):
+            raise FloatingPointError(f"{self.name}: A x + B u + w is not finite at x={x}, u={u}, w={w} (overflow)")
+        return out
 
     def __repr__(self):
         return f"LinearSystem(n={self.n}, m={self.m}, name={self.name!r})"
@@ -102,11 +106,16 @@ class NonlinearSystem(System):
     ``u`` of length ``n_inputs``, ``w`` of length ``n_states``) and returns the next
     state, e.g. ``ca.vertcat(x[0] + dt * x[1], x[1] + dt * (ca.sin(x[0]) + u[0])) + w``.
     It is traced once into a ``casadi.Function``; numeric steps evaluate that function.
+    At construction ``f`` is evaluated once (at the origin, or at a generic point if it is not
+    finite there) and refused when the result is not finite: ``math.sin`` or numpy applied to a
+    CasADi symbol traces to NaN everywhere instead of failing.
     """
 
     def __init__(self, f: Callable, n_states: int, n_inputs: int, name: str = "nonlinear system"):
         if not callable(f):
             raise OrrcValueError(f"f must be callable f(x, u, w); got {type(f).__name__}")
+        if not isinstance(name, str):
+            raise OrrcValueError(f"name must be a string; got {type(name).__name__}")
         self.n = as_int("n_states", n_states, minimum=1)
         self.m = as_int("n_inputs", n_inputs, minimum=1)
         self.name = name
@@ -122,6 +131,7 @@ class NonlinearSystem(System):
             raise OrrcValueError(
                 f"f(x, u, w) must return a vector of length n_states={self.n}; got shape {out.shape}")
         self.function = ca.Function("f", [x, u, w], [out], ["x", "u", "w"], ["x_next"])
+        check_evaluates("f", "f(x, u, w)", lambda x, u: self.function(x, u, np.zeros(self.n)), self.n, self.m)
 
     def symbolic(self, x, u, w):
         return self.function(x, u, w)
@@ -143,7 +153,11 @@ class NonlinearSystem(System):
         fx = self.function(xs, us, ws)
         jac = ca.Function("jacobians", [xs, us, ws], [ca.jacobian(fx, xs), ca.jacobian(fx, us)])  # "jac" is reserved by CasADi
         A, B = jac(x, u, np.zeros(self.n))
-        return np.asarray(A), np.asarray(B)
+        A, B = np.asarray(A), np.asarray(B)
+        if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B))):
+            raise OrrcValueError(f"{self.name}: the Jacobians of f at x={x}, u={u} are not finite; "
+                                 "linearize at another point (x=..., u=...)")
+        return A, B
 
     def __repr__(self):
         return f"NonlinearSystem(n={self.n}, m={self.m}, name={self.name!r})"

@@ -16,6 +16,10 @@ PUBLIC = {
                      "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit"],
     "orrc.checks": ["Margins", "Lemma1Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
                     "theorem1_margin"],
+    "orrc": ["OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning"],
+    "orrc.solvers": ["Plan", "SolverWarning", "SolverError"],
+    "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput",
+                         "FailureLadder"],
 }
 
 SECTIONS = {

@@ -132,17 +132,15 @@ def test_state_bounds_extension_keeps_the_plan_inside():
 
 
 def test_solver_failure_is_reported_warned_and_falls_back():
+    """A failed direct plan() reports success=False with the status and warns once, naming what the
+    plan holds. (The closed loop's failure policy: tests/test_solver_failures.py.)"""
     ex = orrc.examples.inverted_pendulum()
     rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds,
                           solver_options={"ipopt.max_iter": 1})
-    with pytest.warns(orrc.SolverWarning, match="did not converge"):
+    with pytest.warns(orrc.SolverWarning, match="did not succeed.*the solver's last iterate"):
         plan = rhc.plan(np.array([0.5, 0.0]), np.zeros((10, 2)))
     assert not plan.success and "Maximum_Iterations" in plan.status
-    assert plan.fallback is not None
-    with pytest.warns((orrc.SolverWarning, RuntimeWarning)):
-        traj = orrc.simulate(ex.system, rhc, np.array([0.5, 0.0]), np.zeros((20, 2)), 5)
-    assert traj.n_failures == 5 and not traj.success.any()
-    assert all("Maximum_Iterations" in s for s in traj.status)
+    assert plan.fallback == "the solver's last iterate"
 
 
 def test_unknown_solver_option_is_a_clear_error():

@@ -14,11 +14,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import PY_CALL_OPS, OrrcValueError, as_float, as_int, check_finite_result, check_size
 from ..controllers.base import Controller
 from ..controllers.baselines import LQR, ZeroInput
 from ..controllers.preview import PreviewRHC
-from ..solvers.nlp import SolverWarning
+from ..solvers.plan import SolverWarning
 from ..systems import LinearSystem
 from .constants import _check_linear_system, _check_quadratic_cost
 
@@ -130,7 +130,14 @@ def worst_case_attenuation(system: LinearSystem, controller: Controller, T: int,
     K, L, Mw, Q, R = _linear_loop(system, controller, cost)
     T = as_int("T", T, minimum=1)
     A, B = system.A, system.B
-    n = system.n
+    n, m = system.n, system.m
+    n_rows, n_cols = T * (n + m), T * n
+    # G and its row blocks (2 copies), dense SVD (small G) or ~100 ARPACK products (large G), the loop
+    check_size(f"worst_case_attenuation over T={T} steps (n={n}, m={m}): a {n_rows} x {n_cols} matrix G",
+               nbytes=8.0 * n_rows * n_cols * (2 if min(n_rows, n_cols) > 200 else 4),
+               ops=(200.0 * n_rows * n_cols if min(n_rows, n_cols) > 200 else 10.0 * n_rows * n_cols ** 2)
+               + T * ((Mw + 6) * PY_CALL_OPS + 6.0 * n * (n + m) * n_cols),
+               hint="lower T (the level converges in T: worst_case_attenuation_limit gives T → ∞ directly)")
     Qh, Rh = _sqrt_psd(Q), _sqrt_psd(R)
     N = T * n
     X = np.zeros((n, N))  # x_t = X vec W
@@ -146,7 +153,11 @@ def worst_case_attenuation(system: LinearSystem, controller: Controller, T: int,
         X = A @ X + B @ U
         X[:, t * n:(t + 1) * n] += np.eye(n)
     G = np.vstack(rows)
+    if not np.all(np.isfinite(G)):
+        raise OrrcValueError(f"worst_case_attenuation over T={T}: the closed-loop response overflows (the loop is "
+                             "unstable and T too long for floating point, or the weights too large); lower T")
     gamma, v = _top_singular(G)
+    check_finite_result("the worst-case attenuation level", gamma, f"T={T}", "rescale Q and R")
     w = v.reshape(T, n)
     j = int(np.argmax(np.abs(w.ravel())))
     if w.ravel()[j] < 0:
@@ -226,6 +237,9 @@ def worst_case_attenuation_limit(system: LinearSystem, controller: Controller, c
     if start not in ("stationary", "cold"):
         raise OrrcValueError(f"start must be 'stationary' or 'cold'; got {start!r}")
     tol = as_float("tol", tol, minimum=0.0, strict_min=True)
+    k = system.n * max(Mw, 1)
+    check_size(f"worst_case_attenuation_limit for a closed loop of {k} states (n={system.n}, preview M={Mw})",
+               nbytes=8.0 * 40 * k * k, ops=400.0 * k ** 3, hint="lower the controller's horizon M")
     Ad, Bd, Cd, Dd = _closed_loop_ss(system, K, L, Mw, Q, R)
     sys_d = control.ss(Ad, Bd, Cd, Dd, dt=True)
     rho = float(np.max(np.abs(np.linalg.eigvals(Ad))))

@@ -15,9 +15,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import theory
-from .._validate import OrrcValueError, as_float, as_int, eigvalsh_tol
+from .._validate import (PY_CALL_OPS, OrrcValueError, as_float, as_int, check_finite_result, check_size,
+                         eigvalsh_tol)
 from ..costs import QuadraticCost
-from ..solvers.lq import LQPreviewLaw, _backward_gains
+from ..solvers.lq import LQPreviewLaw, riccati_step, riccati_steps_size
 from ..systems import LinearSystem
 
 __all__ = ["Constants", "lq_constants", "smallest_certified_M", "alpha_hi_floor"]
@@ -102,8 +103,11 @@ class Constants:
         return float(self._curve(gamma_bar))
 
     def bound(self, sigma, w_energy) -> float:
-        """alpha_hi σ(x) + gamma_bar Σ_k ‖w_k‖², the bound on V_M (σ and energy given)."""
-        return float(self.alpha_hi * sigma + self.gamma_bar * w_energy)
+        """alpha_hi σ(x) + gamma_bar Σ_k ‖w_k‖², the bound on V_M (σ >= 0 and energy >= 0 given)."""
+        sigma = as_float("sigma", sigma, minimum=0.0)
+        w_energy = as_float("w_energy", w_energy, minimum=0.0)
+        return check_finite_result("Constants.bound", float(self.alpha_hi * sigma + self.gamma_bar * w_energy),
+                                   f"sigma={sigma:g}, w_energy={w_energy:g}")
 
     def __repr__(self):
         kind = "estimated" if self.estimate else "certified"
@@ -187,7 +191,9 @@ def alpha_hi_floor(system: LinearSystem, cost: QuadraticCost, Ms) -> np.ndarray:
 
     ``Ms``: an iterable of integers >= 1 (M = 1 gives λ_max(Q)). Returns a 1-D float array
     aligned with ``Ms``; all values come from ONE backward Riccati recursion up to max(Ms)
-    (P_0 of the M-step problem is the M-th iterate from P = 0, whatever the longest horizon).
+    (P_0 of the M-step problem is the M-th iterate from P = 0, whatever the longest horizon),
+    kept only at the requested horizons. Refused when max(Ms) Riccati steps exceed the limits
+    of ``orrc.config``.
     """
     _lq_check(system, cost)
     if isinstance(Ms, (str, bytes)) or not np.iterable(Ms):
@@ -195,10 +201,26 @@ def alpha_hi_floor(system: LinearSystem, cost: QuadraticCost, Ms) -> np.ndarray:
     Ms = [as_int(f"Ms[{i}]", M, minimum=1) for i, M in enumerate(Ms)]
     if not Ms:
         raise OrrcValueError("Ms must hold at least one horizon M >= 1; got an empty iterable")
-    M_max, n, m = max(Ms), system.n, system.m
-    P = _backward_gains(system.A, system.B, np.broadcast_to(cost.Q, (M_max, n, n)),
-                        np.broadcast_to(cost.R, (M_max, m, m)), None)[0]
-    return np.array([np.linalg.eigvalsh(P[M_max - M])[-1] for M in Ms], dtype=float)  # P_0(M)
+    wanted = set(Ms)
+    floor = {M: value for M, value in _floors(system, cost, max(Ms), f"alpha_hi_floor at max(Ms)={max(Ms)}")
+             if M in wanted}
+    return np.array([floor[M] for M in Ms], dtype=float)
+
+
+def _floors(system, cost, M_max: int, what: str):
+    """(M, λ_max(P_0(M))) for M = 1..M_max from one backward Riccati recursion (P_0(M) is its M-th
+    iterate from P = 0), one matrix kept at a time; the size checked first."""
+    A, B, Q, R = system.A, system.B, cost.Q, cost.R
+    n, m = B.shape
+    riccati_steps_size(f"{what} (that many Riccati steps, n={n}, m={m})", M_max, n, m, stored=0)
+    P = np.zeros((n, n))
+    for M in range(1, M_max + 1):
+        P = riccati_step(A, B, P, Q, R)[0]
+        top = float(np.linalg.eigvalsh(P)[-1])
+        if not np.isfinite(top):
+            raise OrrcValueError(f"{what}: the Riccati matrix P_0(M) overflows at M={M} (an unstabilisable mode "
+                                 "grows like its eigenvalue^(2M)); lower the horizon or rescale Q, R")
+        yield M, top
 
 
 def smallest_certified_M(system: LinearSystem, cost: QuadraticCost, M_max: int = 200) -> int | None:
@@ -207,16 +229,19 @@ def smallest_certified_M(system: LinearSystem, cost: QuadraticCost, M_max: int =
     Along the Pareto curve ᾱ decreases to λ_max(P_0(M)) (P_0 the M-step Riccati matrix,
     V_M(x, 0) = xᵀP_0x) as γ̄ → ∞, so an admissible pair exists iff
     λ_max(P_0(M)) < α_lo √(M-1) (the horizon threshold M > ᾱ²/α_lo² + 1, Lemma 2 and
-    Theorem 1). The floors λ_max(P_0(M)) are :func:`alpha_hi_floor`'s, from one recursion.
+    Theorem 1). The floors λ_max(P_0(M)) are :func:`alpha_hi_floor`'s, from one recursion that
+    stops at the first certified M. Refused when M_max Riccati steps (the worst case) exceed the
+    limits of ``orrc.config``.
     """
     _lq_check(system, cost)
     M_max = as_int("M_max", M_max, minimum=2)
     alpha_lo = float(cost.alpha_lo)
     if alpha_lo <= 0:
         return None
-    Ms = np.arange(2, M_max + 1)
-    ok = np.flatnonzero(alpha_hi_floor(system, cost, Ms) < alpha_lo * np.sqrt(Ms - 1))
-    return int(Ms[ok[0]]) if ok.size else None
+    for M, floor in _floors(system, cost, M_max, f"smallest_certified_M up to M_max={M_max}"):
+        if M >= 2 and floor < alpha_lo * math.sqrt(M - 1):  # the search stops at the first certified M
+            return M
+    return None
 
 
 def lq_constants(system: LinearSystem, cost: QuadraticCost, M: int, grid: int = 200) -> Constants:
@@ -244,6 +269,8 @@ def lq_constants(system: LinearSystem, cost: QuadraticCost, M: int, grid: int = 
     M = as_int("M", M, minimum=2)
     grid = as_int("grid", grid, minimum=20)
     n = system.n
+    check_size(f"lq_constants' scan of the Pareto curve with grid={grid} at M={M} (n={n})",
+               ops=6 * grid * (4 * PY_CALL_OPS + 2.0 * n * n * M * n + 10.0 * n ** 3), hint="lower grid")
     law = LQPreviewLaw(system.A, system.B, cost.Q, cost.R, M)
     H = law.H
     curve = _SchurCurve(H, n)

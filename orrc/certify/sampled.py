@@ -11,7 +11,7 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import OrrcValueError, as_float, as_int, check_size
 from ..controllers.preview import PreviewRHC
 from ..costs import StageCost
 from ..systems import System
@@ -71,8 +71,11 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
     x_radius = as_float("x_radius", x_radius, minimum=0.0, strict_min=True)
     w_radius = 0.1 * x_radius if w_radius is None else as_float("w_radius", w_radius, minimum=0.0, strict_min=True)
     rng = _rng(seed)
+    n, m = system.n, system.m
+    check_size(f"sampled_constants with n_samples={n_samples} at M={M} (3 x {n_samples} M-step solves)",
+               nbytes=8.0 * 6 * n_samples * M * n, ops=3.0 * n_samples * M * (n + m) * 1e5,
+               hint="lower n_samples or M")
     rhc = PreviewRHC(system, cost, M, input_bounds=input_bounds, solver_options=solver_options)
-    n = system.n
     xs = Ball(x_radius, n).sample(2 * n_samples, rng)
     Ws = Ball(w_radius, n).sample(2 * n_samples * M, rng).reshape(2 * n_samples, M, n)
     zx, zW = np.zeros(n), np.zeros((M, n))

@@ -5,6 +5,10 @@ reports V_M at every step in ``traj.values``) and the paper's constants, and ret
 the margins ``bound - actual`` of the inequality at every step: a margin >= 0 means the
 inequality holds there. Use ``result.holds()`` to test all steps up to rounding.
 
+A trajectory with failed solves (``traj.success`` not all True) or overflowed values is
+refused with an :class:`~orrc.OrrcValueError`: its V_M at those steps is not Algorithm 1's optimal
+value (``Trajectory.values`` holds NaN there), so the lemmas say nothing about it.
+
 Indices are 0-based (t = 0..T-1 for the paper's t = 1..T). The increment of V_M at
 step t involves the previewed window w_t..w_{t+M-1}, which ``traj.w_all`` holds (it
 includes the preview tail past T, as the controller saw it).
@@ -21,7 +25,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from .. import theory
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import OrrcValueError, as_float, as_int, check_size
 from ..metrics import attenuation_regret
 
 __all__ = ["Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins", "theorem1_margin"]
@@ -50,6 +54,7 @@ class Margins:
 
     def _slack(self, rtol: float, atol: float) -> np.ndarray:
         """The allowance rtol·scale + atol at every step."""
+        rtol, atol = as_float("rtol", rtol, minimum=0.0), as_float("atol", atol, minimum=0.0)
         scale = np.abs(self.bound) + np.abs(self.actual) if self.scale is None else self.scale
         return rtol * scale + atol
 
@@ -104,6 +109,13 @@ def _trajectory(traj, M):
         raise OrrcValueError(
             f"the trajectory has no V_M values (controller {traj.controller!r}); simulate Algorithm 1 "
             "(orrc.PreviewRHC), which reports V_M at every step")
+    if traj.n_failures or (traj.value_valid is not None and not traj.value_valid.all()):
+        bad = np.flatnonzero(~traj.success) if traj.n_failures else np.flatnonzero(~traj.value_valid)
+        raise OrrcValueError(
+            f"traj has {bad.size} steps without a valid V_M (t = {bad[:8].tolist()}{'...' if bad.size > 8 else ''}: "
+            f"{'the solve failed there' if traj.n_failures else 'the value is not finite'}; see Trajectory.success "
+            "and value_valid): the lemmas are about Algorithm 1's optimal values, which these steps do not have. "
+            "Re-run with solver options that converge (e.g. a larger ipopt.max_iter)")
     M = as_int("M", M, minimum=2)
     if traj.preview_w != M:
         raise OrrcValueError(
@@ -112,6 +124,9 @@ def _trajectory(traj, M):
     e = np.einsum("ij,ij->i", traj.w_all, traj.w_all)
     if len(e) < traj.T + M - 1:
         raise OrrcValueError(f"traj.w_all has {len(e)} rows; expected at least T + M - 1 = {traj.T + M - 1}")
+    if not (np.all(np.isfinite(traj.costs)) and np.all(np.isfinite(traj.sigma))):
+        raise OrrcValueError("traj has non-finite stage costs or σ (the run overflowed; see the NonFiniteWarning "
+                             "of orrc.simulate): the inequalities cannot be checked")
     return traj, M, e
 
 
@@ -187,6 +202,8 @@ def lemma2_margins(traj, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> Margins:
         raise OrrcValueError(f"Lemma 2 needs H >= M; got H={H}, M={M}")
     coef = theory.lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, theory.known._b(alpha_lo, alpha_hi, gamma_bar))
     count = T - H
+    check_size(f"Lemma 2's bound at the {count} anchors of the trajectory with H={H}, M={M}",
+               nbytes=8.0 * count, ops=2.0 * count * (H + M), hint="lower H or check a shorter trajectory")
     windows = sliding_window_view(e, H + M - 1)[:count]
     bound = alpha_hi * a ** H * traj.sigma[:count] + windows @ coef
     actual = traj.costs[H:H + count]

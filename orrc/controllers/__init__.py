@@ -1,6 +1,8 @@
-"""Controllers: Algorithm 1 (PreviewRHC) and the baselines."""
+"""Controllers: Algorithm 1 (PreviewRHC) and the baselines, and the escalation policy on solver failure
+(:mod:`orrc.controllers.failures`, shared by every receding-horizon controller)."""
 from .base import Controller, Decision, Observation
 from .baselines import LQR, Clairvoyant, ZeroInput
+from .failures import FailureLadder
 from .preview import PreviewRHC
 
-__all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput"]
+__all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "FailureLadder"]

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._validate import OrrcValueError
+
 
 @dataclass(slots=True)
 class Observation:
@@ -34,7 +36,14 @@ class Observation:
 @dataclass(slots=True)
 class Decision:
     """A controller's output at one step: the input u_t and, when it has them, the
-    optimal value V_M of the problem it solved and the solver's report."""
+    optimal value V_M of the problem it solved and the solver's report.
+
+    ``success`` is False when the step's solve failed; ``status`` then gives the solver's
+    statuses, ``fallback`` what u_t is instead (e.g. "the previous successful plan, shifted"),
+    and ``value`` is NaN (or is ignored: a failed solve has no optimal value). A step at which
+    the controller solves nothing keeps ``success=True``. :func:`orrc.simulate` records all of
+    it in the :class:`~orrc.Trajectory` and warns once per run when some step failed.
+    """
 
     u: np.ndarray
     value: float | None = None
@@ -42,16 +51,34 @@ class Decision:
     status: str = "optimal"
     iterations: int = 0
     solve_time: float = 0.0
+    fallback: str | None = None
 
 
 class Controller:
     """Base class. Subclasses set ``preview_w``, ``preview_c`` (and ``cost`` when they
-    optimise one) and implement :meth:`control`."""
+    optimise one, ``system`` when they hold a model) and implement :meth:`control`."""
 
     preview_w: int = 0
     preview_c: int = 0
     cost = None
     name = "controller"
+
+    def check_run(self, system, T: int) -> None:
+        """Refuse a run this controller cannot serve (called by ``simulate`` before the first step).
+
+        Default: a controller that holds a model (``self.system``) or an input dimension
+        (``self.m``) must match the simulated system's dimensions. Subclasses extend it (e.g.
+        :class:`~orrc.Clairvoyant` needs the T it planned for).
+        """
+        own = getattr(self, "system", None)
+        if own is not None and (getattr(own, "n", None), getattr(own, "m", None)) != (system.n, system.m):
+            raise OrrcValueError(
+                f"controller {self.name!r} was built for a system with n={own.n} states and m={own.m} inputs; "
+                f"the simulated system has n={system.n}, m={system.m}")
+        m = getattr(self, "m", None)
+        if isinstance(m, int) and m != system.m:
+            raise OrrcValueError(f"controller {self.name!r} gives m={m} inputs; the simulated system has "
+                                 f"m={system.m}")
 
     def reset(self) -> None:
         """Forget any state kept from a previous run (called by ``simulate``)."""

@@ -15,6 +15,7 @@ from .._validate import OrrcValueError, as_int
 from ..costs import QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from .base import Controller, Decision, Observation
+from .failures import LAST_ITERATE
 from .preview import PreviewRHC
 
 
@@ -31,6 +32,8 @@ class LQR(Controller):
     def __init__(self, system: System, cost: QuadraticCost):
         import control
 
+        if not isinstance(system, System):
+            raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
         if not isinstance(cost, QuadraticCost):
             raise OrrcValueError(f"LQR needs a QuadraticCost; got {type(cost).__name__}")
         cost.check_dims(system.n, system.m)
@@ -53,6 +56,8 @@ class ZeroInput(Controller):
 
     def __init__(self, m: int, cost: StageCost | None = None):
         self.m = as_int("m", m, minimum=1)
+        if cost is not None and not isinstance(cost, StageCost):
+            raise OrrcValueError(f"cost must be an orrc stage cost or None; got {type(cost).__name__}")
         self.cost = cost
 
     def control(self, obs: Observation) -> Decision:
@@ -65,7 +70,11 @@ class Clairvoyant(Controller):
     It declares a preview of T (it is not a causal controller), solves the T-step
     problem once at t = 0 with the same machinery as Algorithm 1 (exact Riccati
     for LQ, CasADi otherwise) and plays the plan. Its trajectory cost is the
-    comparator of :func:`orrc.dynamic_regret`.
+    comparator of :func:`orrc.dynamic_regret`. It must be simulated for the T it was built for.
+
+    A failed solve (retried once from a cold start) is one failure, at t = 0: that step is
+    marked ``success=False`` with its fallback (the solver's last iterate, played for the whole
+    run); the later steps solve nothing and are not failures. :func:`orrc.simulate` warns once.
     """
 
     name = "clairvoyant optimum"
@@ -75,17 +84,32 @@ class Clairvoyant(Controller):
         self.preview_w = self.preview_c = self.T
         self.cost = cost
         self._rhc = PreviewRHC(system, cost, self.T, input_bounds=input_bounds, solver_options=solver_options)
+        self.system = self._rhc.system
         self._plan = None
+
+    def check_run(self, system, T: int) -> None:
+        super().check_run(system, T)
+        if T != self.T:
+            raise OrrcValueError(f"Clairvoyant(T={self.T}) plans the {self.T}-step optimum in hindsight; simulate "
+                                 f"it for T={self.T} (got T={T}), or build Clairvoyant(..., T={T})")
 
     def reset(self) -> None:
         self._plan = None
 
     def control(self, obs: Observation) -> Decision:
         if obs.t == 0:
-            self._plan = self._rhc.plan(obs.x, obs.w_preview, obs.cost_params)
+            x, W, P = self._rhc._check_preview(obs.x, obs.w_preview, obs.cost_params)
+            self._plan = self._rhc._plan(x, W, P, obs.cost_params is None, None)
+            if not self._plan.success:
+                self._plan.fallback = LAST_ITERATE
         elif self._plan is None:
-            raise RuntimeError("Clairvoyant must be run from t = 0 (call simulate)")
+            raise OrrcValueError("Clairvoyant must be run from t = 0 (call orrc.simulate)")
+        if obs.t >= self.T:
+            raise OrrcValueError(f"Clairvoyant(T={self.T}) has no input for step t={obs.t}; simulate it for "
+                                 f"T={self.T}")
         p = self._plan
-        value = p.value if obs.t == 0 else None
-        return Decision(u=p.inputs[obs.t].copy(), value=value, success=p.success, status=p.status,
-                        iterations=p.iterations if obs.t == 0 else 0)
+        if obs.t > 0:  # no solve at this step: played from the plan of t = 0
+            return Decision(u=p.inputs[obs.t].copy(), status="played from the plan of t = 0")
+        value = p.value if p.success else float("nan")
+        return Decision(u=p.inputs[0].copy(), value=value, success=p.success, status=p.status,
+                        iterations=p.iterations, solve_time=p.solve_time, fallback=p.fallback)

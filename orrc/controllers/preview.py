@@ -2,28 +2,53 @@
 from __future__ import annotations
 
 import functools
+import warnings
 
+import casadi as ca
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_int
+from .._validate import OrrcValueError, _describe, as_array, as_int, check_evaluates
 from ..costs import QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from ..solvers import lq
 from ..solvers.nlp import ShootingNLP
-from ..solvers.plan import Plan
+from ..solvers.plan import Plan, SolverWarning
 from .base import Controller, Decision, Observation
+from .failures import DEFAULT_MAX_FAILURES, FailureLadder
 
 
 def _bounds(name, bounds, dim):
+    """(lo, hi) arrays of length dim from a pair of scalars or length-dim arrays (±inf allowed)."""
     if bounds is None:
         return None
     if not isinstance(bounds, (tuple, list)) or len(bounds) != 2:
-        raise OrrcValueError(f"{name} must be a pair (lo, hi) of scalars or length-{dim} arrays; got {bounds!r}")
-    lo = np.broadcast_to(as_array(f"{name}[0]", bounds[0], allow_nonfinite=True), (dim,)).astype(float)
-    hi = np.broadcast_to(as_array(f"{name}[1]", bounds[1], allow_nonfinite=True), (dim,)).astype(float)
+        raise OrrcValueError(f"{name} must be a pair (lo, hi) of scalars or length-{dim} arrays; got "
+                             f"{_describe(bounds)}")
+    out = []
+    for i, b in enumerate(bounds):
+        b = as_array(f"{name}[{i}]", b, allow_nonfinite=True)
+        if b.ndim > 1 or (b.ndim == 1 and b.shape[0] not in (1, dim)):
+            raise OrrcValueError(f"{name}[{i}] must be a scalar or a length-{dim} array; got shape {b.shape}")
+        out.append(np.broadcast_to(b.reshape(-1) if b.ndim else b, (dim,)).astype(float))
+    lo, hi = out
     if np.any(np.isnan(lo)) or np.any(np.isnan(hi)) or np.any(lo > hi):
         raise OrrcValueError(f"{name} needs lo <= hi (no NaN) in every coordinate; got lo={lo}, hi={hi}")
     return lo, hi
+
+
+def _terminal_callable(fn, n: int):
+    """A terminal cost callable checked: it must trace to a finite scalar CasADi expression of x."""
+    xs = ca.SX.sym("x", n)
+    try:
+        out = ca.SX(fn(xs))
+    except Exception as exc:
+        raise OrrcValueError("terminal_cost must be written with CasADi operations on x (ca.sumsqr(x), ...); "
+                             f"tracing it failed with: {exc}") from exc
+    if out.shape != (1, 1):
+        raise OrrcValueError(f"terminal_cost(x) must return a scalar; got shape {out.shape}")
+    f = ca.Function("terminal", [xs], [out])
+    check_evaluates("terminal_cost", "terminal_cost(x)", lambda x, u: f(x), n, 1)
+    return fn
 
 
 class PreviewRHC(Controller):
@@ -48,17 +73,29 @@ class PreviewRHC(Controller):
         on x̃_{t+M}) or a callable in CasADi operations. The paper has none.
     state_bounds : extension beyond the paper -- (lo, hi) box on x̃_{t+1..t+M} (CasADi path).
     solver : "auto" (default), "lq" or "nlp".
-    solver_options : extra options for ``casadi.nlpsol`` (e.g. {"ipopt.max_iter": 100}).
+    solver_options : extra options for ``casadi.nlpsol`` (e.g. {"ipopt.max_iter": 100}); the
+        exact LQ path has no options and warns that they are ignored.
+    max_failures : consecutive failed steps after which :meth:`control` stops with
+        :class:`~orrc.SolverError` (default 3); None never stops.
 
-    On an NLP failure the step reports ``success=False`` with the solver status,
-    warns (:class:`~orrc.SolverWarning`), and applies the first input of the shifted
-    previous plan when there is one (else the solver's last iterate).
+    Solver failures (NLP path) follow :mod:`orrc.controllers.failures`: a failed solve is retried
+    from a cold start; if that fails too, the step applies the previous successful plan shifted
+    (while it lasts, fewer than M steps), else the solver's last iterate, and is marked
+    (``success=False``, its V_M NaN, ``fallback`` naming what was applied); after
+    ``max_failures`` consecutive failed steps the controller raises :class:`~orrc.SolverError`.
+    :func:`orrc.simulate` summarises the failures of a run in one :class:`~orrc.SolverWarning`;
+    a direct :meth:`plan` call that fails warns once.
+
+    Size: the horizon's cost is estimated first (the exact LQ law is O(M³n²) to build and
+    O(M²n²) to store; the CasADi problem grows with M(n+m)) and refused above the limits of
+    ``orrc.config`` with an :class:`~orrc.OrrcValueError` stating the estimate.
     """
 
     name = "preview RHC"
 
     def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
-                 terminal_cost=None, state_bounds=None, solver: str = "auto", solver_options=None):
+                 terminal_cost=None, state_bounds=None, solver: str = "auto", solver_options=None,
+                 max_failures: int | None = DEFAULT_MAX_FAILURES):
         if not isinstance(system, System):
             raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
         if not isinstance(cost, StageCost):
@@ -69,14 +106,15 @@ class PreviewRHC(Controller):
         self.preview_w = self.preview_c = self.M
         self.input_bounds = _bounds("input_bounds", input_bounds, system.m)
         self.state_bounds = _bounds("state_bounds", state_bounds, system.n)
-        if solver not in ("auto", "lq", "nlp"):
+        if not isinstance(solver, str) or solver not in ("auto", "lq", "nlp"):
             raise OrrcValueError(f"solver must be 'auto', 'lq' or 'nlp'; got {solver!r}")
         if solver_options is not None and not isinstance(solver_options, dict):
             raise OrrcValueError(f"solver_options must be a dict; got {type(solver_options).__name__}")
+        self._ladder = FailureLadder(self.M, max_failures, name=f"PreviewRHC(M={self.M})")
         Pf, term_fn = None, None
         if terminal_cost is not None:
             if callable(terminal_cost):
-                term_fn = terminal_cost
+                term_fn = _terminal_callable(terminal_cost, system.n)
             else:
                 from .._validate import as_square, check_psd
                 Pf = as_square("terminal_cost", terminal_cost, system.n)
@@ -93,10 +131,13 @@ class PreviewRHC(Controller):
         self._Pf = Pf
         if self.solver == "lq":
             self._nlp = None
+            if solver_options:
+                warnings.warn(f"solver_options {sorted(solver_options)} are ignored: this problem is solved "
+                              "exactly on the LQ path (Riccati recursion), which has no options; pass "
+                              "solver='nlp' to solve it with CasADi + IPOPT instead", UserWarning, stacklevel=2)
         else:
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
                                     term_fn, solver_options=solver_options)
-        self._prev: Plan | None = None
 
     @functools.cached_property
     def law(self) -> lq.LQPreviewLaw | None:
@@ -132,41 +173,75 @@ class PreviewRHC(Controller):
             P = P[: self.M]
         return x, w_preview, P
 
+    def _check_warm_start(self, warm_start):
+        if warm_start is None:
+            return None
+        if not isinstance(warm_start, Plan):
+            raise OrrcValueError(f"warm_start must be a Plan (the result of plan()) or None; got "
+                                 f"{type(warm_start).__name__}")
+        M, n, m = self.M, self.system.n, self.system.m
+        U = as_array("warm_start.inputs", warm_start.inputs, (M, m))
+        X = as_array("warm_start.states", warm_start.states, (M + 1, n))
+        return U, X
+
     def plan(self, x, w_preview, cost_params=None, warm_start: Plan | None = None) -> Plan:
         """Solve Eq. (3) from state ``x`` with preview ``w_preview`` (M, n).
 
         ``cost_params`` (M, n_params): parameters of c_t..c_{t+M-1} (default: the
-        cost's own, time-invariant). Returns a :class:`~orrc.solvers.Plan` with
-        ``.inputs`` (M, m), ``.states`` (M+1, n) and ``.value`` = V_M.
+        cost's own, time-invariant). ``warm_start``: the plan of the previous step (a
+        :class:`~orrc.solvers.Plan` of this horizon), shifted by one step as the initial guess
+        (NLP path). Returns a :class:`~orrc.solvers.Plan` with ``.inputs`` (M, m),
+        ``.states`` (M+1, n) and ``.value`` = V_M.
+
+        A failed NLP solve is retried from a cold start; if that fails too the plan has
+        ``success=False``, its ``fallback`` says what its inputs are (the shifted warm start
+        when one was given, else the solver's last iterate), and one
+        :class:`~orrc.SolverWarning` says so.
         """
         x, W, P = self._check_preview(x, w_preview, cost_params)
-        return self._solve(x, W, P, cost_params is None, warm_start)
+        warm = self._check_warm_start(warm_start)
+        if warm is not None:
+            warm = (np.vstack([warm[0][1:], warm[0][-1:]]), np.vstack([warm[1][1:], warm[1][-1:]]))
+        plan = self._plan(x, W, P, cost_params is None, warm)
+        if not plan.success:
+            if warm is not None:
+                plan.inputs, plan.states, plan.fallback = warm[0], np.vstack([x, warm[1][1:]]), \
+                    "the warm start, shifted"
+            warnings.warn(f"PreviewRHC.plan: the NLP solver ({plan.solver}) did not succeed ({plan.status}); "
+                          f"the plan holds {plan.fallback} (plan.success is False)", SolverWarning, stacklevel=2)
+        return plan
 
-    def _solve(self, x, W, P, invariant, warm_start):
+    def _plan(self, x, W, P, invariant, warm):
+        """The plan of one M-step problem (validated arguments), climbing the failure ladder's rungs
+        (no warning, no fallback: :meth:`plan` and :meth:`control` decide). ``warm``: (inputs,
+        states) of a guess already shifted to this step (states x̃_0..x̃_M), or None."""
         if self.solver == "lq":
             if invariant:
                 Qs = np.broadcast_to(self.cost.Q, (self.M,) + self.cost.Q.shape)
                 Rs = np.broadcast_to(self.cost.R, (self.M,) + self.cost.R.shape)
             else:
-                pairs = [self.cost.unpack(p) for p in P]
-                Qs = np.array([q for q, _ in pairs])
-                Rs = np.array([r for _, r in pairs])
-            U, X, value = lq.solve(self.system.A, self.system.B, Qs, Rs, x, W, self._Pf)
+                Qs, Rs = self.cost._rows(P)
+            with np.errstate(over="ignore", invalid="ignore"):
+                U, X, value = lq.solve(self.system.A, self.system.B, Qs, Rs, x, W, self._Pf)
+            if not (np.isfinite(value) and np.all(np.isfinite(U)) and np.all(np.isfinite(X))):
+                raise OrrcValueError(f"the exact M-step plan from x (|x| = {np.abs(x).max():.3g}) overflows the "
+                                     "float range (inputs, states or V_M not finite); rescale x, W or the cost")
             return Plan(inputs=U, states=X, value=value)
-        guess_U = guess_X = None
-        if warm_start is not None:
-            guess_U = np.vstack([warm_start.inputs[1:], warm_start.inputs[-1:]])
-            guess_X = np.vstack([x, warm_start.states[2:], warm_start.states[-1:]])
-        plan = self._nlp.solve(x, W, P, guess_U, guess_X)
-        if not plan.success and warm_start is not None:
-            plan.inputs = guess_U
-            plan.states = guess_X
-            plan.fallback = "shifted previous plan"
-        return plan
+        return FailureLadder.attempt(self._rungs(x, W, P, warm))
+
+    def _rungs(self, x, W, P, warm):
+        """The ways of solving one M-step problem on the NLP path, in the order the failure ladder
+        tries them: from the warm start (when there is one), then from a cold start."""
+        rungs = []
+        if warm is not None:
+            gU, gX = warm[0], np.vstack([x, warm[1][1:]])
+            rungs.append(("warm start", lambda: self._nlp.solve(x, W, P, gU, gX)))
+        rungs.append(("cold start", lambda: self._nlp.solve(x, W, P)))
+        return rungs
 
     # -- the controller -----------------------------------------------------------
     def reset(self) -> None:
-        self._prev = None
+        self._ladder.reset()
 
     def control(self, obs: Observation) -> Decision:
         if self.solver == "lq" and obs.cost_params is None:
@@ -174,10 +249,15 @@ class PreviewRHC(Controller):
             return Decision(u=u, value=value)
         P = (np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
              if obs.cost_params is None else obs.cost_params)
-        plan = self._solve(obs.x, obs.w_preview, P, obs.cost_params is None, self._prev)
-        self._prev = plan
+        x, W, invariant = obs.x, obs.w_preview, obs.cost_params is None
+        if self.solver == "lq":
+            plan = self._plan(x, W, P, invariant, None)
+        else:
+            warm = self._ladder.warm_start(obs.t)
+            plan = self._ladder.step(obs.t, self._rungs(x, W, P, None if warm is None else warm[:2]))
         return Decision(u=plan.inputs[0].copy(), value=plan.value, success=plan.success,
-                        status=plan.status, iterations=plan.iterations, solve_time=plan.solve_time)
+                        status=plan.status, iterations=plan.iterations, solve_time=plan.solve_time,
+                        fallback=plan.fallback)
 
     def __repr__(self):
         return f"PreviewRHC(M={self.M}, solver={self.solver!r}, system={self.system!r})"

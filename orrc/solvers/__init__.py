@@ -1,4 +1,4 @@
 """Solvers of the M-step problems. They know nothing of time: x, W, costs in, plan out."""
-from .plan import Plan
+from .plan import Plan, SolverError, SolverWarning
 
-__all__ = ["Plan"]
+__all__ = ["Plan", "SolverWarning", "SolverError"]

@@ -23,22 +23,49 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._validate import ARRAY_OVERHEAD_BYTES, PY_CALL_OPS, OrrcValueError, check_size
+
+#: numpy calls per backward Riccati step (:func:`riccati_step`), for the size estimates
+_STEP_CALLS = 8
+
+
+def riccati_step(A, B, P_next, Q, R):
+    """One backward Riccati step: (P_j, K_j, S_j⁻¹) from P_{j+1} and the stage weights Q_j, R_j.
+
+    S_j = R_j + Bᵀ P_{j+1} B,  K_j = S_j⁻¹ Bᵀ P_{j+1} A,  P_j = Q_j + Aᵀ P_{j+1} (A - B K_j)
+    (symmetrised). R_j must be positive definite (validated where cost data enter).
+    """
+    BtP = B.T @ P_next
+    Sinv = np.linalg.inv(R + BtP @ B)
+    K = Sinv @ (BtP @ A)
+    Pj = Q + A.T @ P_next @ (A - B @ K)
+    return 0.5 * (Pj + Pj.T), K, Sinv
+
+
+def riccati_steps_size(what: str, steps: int, n: int, m: int, stored: int = 3) -> None:
+    """:func:`orrc._validate.check_size` for ``steps`` backward Riccati steps keeping ``stored``
+    small matrices per step (0 when only the current one is kept)."""
+    check_size(what, nbytes=stored * (steps + 1) * (8.0 * (n * n + n * m) + ARRAY_OVERHEAD_BYTES),
+               ops=steps * (_STEP_CALLS * PY_CALL_OPS + 6.0 * (n + m) ** 3), hint="lower the horizon")
+
 
 def _backward_gains(A, B, Qs, Rs, Pf):
     """P_0..P_M, K_0..K_{M-1} and S_j⁻¹ for time-varying Q_j, R_j (the Riccati part)."""
     M = len(Qs)
-    n = A.shape[0]
+    n, m = B.shape
+    riccati_steps_size(f"the Riccati recursion over the horizon M={M} (n={n}, m={m})", M, n, m)
     P = [None] * (M + 1)
     K = [None] * M
     Sinv = [None] * M
     P[M] = np.zeros((n, n)) if Pf is None else Pf
-    for j in range(M - 1, -1, -1):
-        BtP = B.T @ P[j + 1]
-        S = Rs[j] + BtP @ B
-        Sinv[j] = np.linalg.inv(S)
-        K[j] = Sinv[j] @ (BtP @ A)
-        Pj = Qs[j] + A.T @ P[j + 1] @ (A - B @ K[j])
-        P[j] = 0.5 * (Pj + Pj.T)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is checked (and raised) below
+        for j in range(M - 1, -1, -1):
+            P[j], K[j], Sinv[j] = riccati_step(A, B, P[j + 1], Qs[j], Rs[j])
+    if not (np.all(np.isfinite(P[0])) and np.all(np.isfinite(K[0]))):
+        raise OrrcValueError(
+            f"the Riccati recursion over M={M} steps overflows (P_0 is not finite): the weights or the "
+            "horizon are too large for this (A, B) (an unstabilisable mode grows like its eigenvalue^(2M)); "
+            "rescale Q, R or shorten M")
     return P, K, Sinv
 
 
@@ -84,6 +111,12 @@ class LQPreviewLaw:
 
     def __init__(self, A, B, Q, R, M, Pf=None):
         n, m = B.shape
+        N = M * n
+        # D (N x N), H and [H; -[K L]] ((n+N)², (n+N+m)(n+N)) and one N x N temporary per step
+        check_size(f"the exact LQ preview law (u = -Kx - L vec W, V_M = zᵀHz) at the horizon M={M} (n={n}, m={m})",
+                   nbytes=8.0 * (4 * (n + N) ** 2 + (n + N) * m), ops=M * (m + 4.0) * float(N + n) ** 2,
+                   hint="lower M (the law is O(M³n²) to build and O(M²n²) to store), or use PreviewRHC.plan, "
+                        "which solves one (x, W) by the Riccati recursion in O(M n³)")
         self.A, self.B, self.M, self.n, self.m = A, B, M, n, m
         Qs = np.broadcast_to(Q, (M, n, n))
         Rs = np.broadcast_to(R, (M, m, m))
@@ -110,6 +143,9 @@ class LQPreviewLaw:
         H[:n, n:] = C
         H[n:, :n] = C.T
         H[n:, n:] = 0.5 * (D + D.T)
+        if not (np.all(np.isfinite(H)) and np.all(np.isfinite(self.L))):
+            raise OrrcValueError(
+                f"the exact LQ preview law at M={M} overflows (H or L is not finite): rescale Q, R or shorten M")
         self.H = H
         # [H; -[K L]]: one matrix-vector product gives both H z and u (input_and_value)
         self._HG = np.vstack([H, -np.hstack([self.K, self.L])])

@@ -27,7 +27,11 @@ Indices are 0-based as in the rest of ``orrc``: the paper's t = 1..T is t = 0..T
 
 Bad input (non-positive constants, α_lo > ᾱ, M not above the threshold where the
 result needs it, a outside its admissible range) raises :class:`~orrc.OrrcValueError`,
-a ``ValueError``, with a message naming the argument.
+a ``ValueError``, with a message naming the argument. So do finite arguments whose result
+is not representable (a ZeroDivisionError or OverflowError in float arithmetic, an inf or NaN
+result: e.g. alpha_lo = 1e-200 with alpha_hi = 1), with a message listing every argument
+(``orrc._validate.finite_result``), and arguments whose result is too large to compute
+(:func:`lemma2_coefficients` with H = 10**10: the estimate and the limit of ``orrc.config``).
 """
 from __future__ import annotations
 
@@ -36,7 +40,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int
+from .._validate import OrrcValueError, as_array, as_float, as_int, check_size, finite_result
 
 __all__ = [
     "horizon_threshold", "above_threshold", "min_decay_rate", "decay_b", "Gamma_V", "Gamma_V_gamma",
@@ -88,6 +92,7 @@ def _gamma_c(M: int, a: float, b: float) -> float:
     return b * ((M - 1) * (1.0 - a) + 1.0) / (1.0 - a) ** 2
 
 
+@finite_result
 def above_threshold(M, alpha_lo, alpha_hi) -> bool:
     """True when M > ᾱ²/α_lo² + 1 (the horizon condition of Lemma 2 and Theorem 1).
 
@@ -127,6 +132,7 @@ def _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar):
 
 
 # -- Lemma 1 --------------------------------------------------------------------------------------
+@finite_result
 def horizon_threshold(alpha_lo, alpha_hi) -> float:
     """ᾱ²/α_lo² + 1: Lemma 2 and Theorem 1 hold for every integer M strictly above it.
 
@@ -137,6 +143,7 @@ def horizon_threshold(alpha_lo, alpha_hi) -> float:
     return alpha_hi ** 2 / alpha_lo ** 2 + 1.0
 
 
+@finite_result
 def Gamma_V(M, alpha_lo, alpha_hi) -> float:
     """Γ_V = ᾱ²/(α_lo (M-1)) - α_lo  (Lemma 1; Appendix A, last display).
 
@@ -148,6 +155,7 @@ def Gamma_V(M, alpha_lo, alpha_hi) -> float:
     return alpha_hi ** 2 / (alpha_lo * (M - 1)) - alpha_lo
 
 
+@finite_result
 def Gamma_V_gamma(M, alpha_lo, alpha_hi, gamma_bar) -> float:
     """Γ^γ_V = γ̄ (ᾱ/(α_lo (M-1)) + 1)  (Lemma 1; Appendix A, last display).
 
@@ -161,6 +169,7 @@ def Gamma_V_gamma(M, alpha_lo, alpha_hi, gamma_bar) -> float:
 
 
 # -- Lemma 2 --------------------------------------------------------------------------------------
+@finite_result
 def min_decay_rate(M, alpha_lo, alpha_hi) -> float:
     """The smallest admissible decay rate a of Lemma 2 and Theorem 1:
 
@@ -178,6 +187,7 @@ def min_decay_rate(M, alpha_lo, alpha_hi) -> float:
     return _a_min(M, alpha_lo, alpha_hi)
 
 
+@finite_result
 def decay_b(alpha_lo, alpha_hi, gamma_bar) -> float:
     """b = γ̄ (α_lo/ᾱ + 1)  (Lemma 2), the input gain of the recursion
     V^{t+1}_M <= a V^t_M + b Σ_{k=t}^{t+M-1} ‖w_k‖² (Appendix B)."""
@@ -186,6 +196,7 @@ def decay_b(alpha_lo, alpha_hi, gamma_bar) -> float:
     return _b(alpha_lo, alpha_hi, gamma_bar)
 
 
+@finite_result
 def lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, b) -> np.ndarray:
     """The coefficients M_{w,j} of Lemma 2, for j = t, ..., t_H + M - 2 (returned with offset j - t).
 
@@ -208,6 +219,8 @@ def lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, b) -> np.ndarray:
     as_float("alpha_hi", alpha_hi, minimum=0.0, strict_min=True)
     gamma_bar = _gamma_bar(gamma_bar)
     b = as_float("b", b, minimum=0.0, strict_min=True)
+    check_size(f"the H + M - 1 coefficients of Lemma 2 at H={H}, M={M}", nbytes=8.0 * 4 * (H + M - 1),
+               ops=10.0 * (H + M - 1), hint="lower H")
     k = np.arange(H + M - 1)
     out = np.empty(H + M - 1)
     first = k < M
@@ -229,6 +242,7 @@ def _energies(name: str, w) -> np.ndarray:
     return np.einsum("ij,ij->i", w, w)
 
 
+@finite_result
 def lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> float:
     """The right-hand side of Lemma 2: c_{t+H} <= ᾱ a^H σ(x_t) + Σ_{j=t}^{t_H+M-2} M_{w,j} ‖w_j‖².
 
@@ -259,6 +273,7 @@ def lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> f
 
 
 # -- Theorem 1 ------------------------------------------------------------------------------------
+@finite_result
 def gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar) -> float:
     """γ_c = b ((M-1)(1-a) + 1) / (1-a)²  with b = γ̄ (α_lo/ᾱ + 1)  (Theorem 1).
 
@@ -272,6 +287,7 @@ def gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar) -> float:
     return _gamma_c(M, a, _b(alpha_lo, alpha_hi, gamma_bar))
 
 
+@finite_result
 def theorem1_constant(sigma0, w, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> float:
     """The O(1) of Theorem 1 made explicit: a C with
 
@@ -377,6 +393,7 @@ def _theorem1_constants(s: _Theorem1Setting, e, Ts) -> np.ndarray:
 
 
 # -- the remark after Theorem 1 -------------------------------------------------------------------
+@finite_result
 def gamma_tilde(alpha_lo, alpha_hi) -> float:
     """γ̃ = ⌈ᾱ²/α_lo²⌉ α_lo / (ᾱ ((α_lo²/ᾱ²) ⌈ᾱ²/α_lo²⌉ - 1))  (remark after Theorem 1).
 
@@ -395,6 +412,7 @@ def gamma_tilde(alpha_lo, alpha_hi) -> float:
     return N * alpha_lo / (alpha_hi * denom)
 
 
+@finite_result
 def gamma_c_remark(alpha_lo, alpha_hi, gamma_bar) -> float:
     """2 (1 + α_lo/ᾱ)(γ̃ ᾱ²/α_lo² + γ̃²) γ̄  (remark after Theorem 1).
 

@@ -21,9 +21,10 @@ import html
 import io
 import itertools
 import json
+import math
 import uuid
 
-from .._validate import OrrcValueError
+from .._validate import OrrcValueError, as_int, check_size
 
 _JS = """
 (function () {
@@ -49,6 +50,12 @@ _JS = """
 def figure_to_png(fig, dpi: int = 80) -> bytes:
     """Render a matplotlib figure to PNG bytes and close it."""
     import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    if not isinstance(fig, Figure):
+        raise OrrcValueError(f"fig must be a matplotlib Figure (what the plotting function returns); got "
+                             f"{type(fig).__name__}")
+    dpi = as_int("dpi", dpi, minimum=1)
 
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
@@ -70,12 +77,17 @@ class Explorer:
         self.widget = self._widget() if live else None
 
     def _render_frames(self) -> dict:
+        from matplotlib.figure import Figure
+
         names = list(self.params)
         frames = {}
         for idx in itertools.product(*(range(len(self.params[k])) for k in names)):
             kwargs = {k: self.params[k][i] for k, i in zip(names, idx)}
-            frames["_".join(map(str, idx))] = base64.b64encode(
-                figure_to_png(self.plot(**kwargs), self.dpi)).decode("ascii")
+            fig = self.plot(**kwargs)
+            if not isinstance(fig, Figure):
+                raise OrrcValueError(f"plot must return a matplotlib Figure; plot({kwargs}) returned "
+                                     f"{type(fig).__name__}")
+            frames["_".join(map(str, idx))] = base64.b64encode(figure_to_png(fig, self.dpi)).decode("ascii")
         return frames
 
     def _html(self) -> str:
@@ -145,10 +157,19 @@ def explore(plot, dpi: int = 80, live: bool = True, initial: dict | None = None,
         raise OrrcValueError(f"plot must be a function returning a matplotlib Figure; got {type(plot).__name__}")
     if not params:
         raise OrrcValueError("explore needs at least one parameter, e.g. explore(plot, M=[5, 10])")
+    dpi = as_int("dpi", dpi, minimum=1)
+    for k, v in params.items():
+        if isinstance(v, (str, bytes)) or not hasattr(v, "__iter__"):
+            raise OrrcValueError(f"parameter {k!r} must be a list of values; got {type(v).__name__}")
     params = {k: list(v) for k, v in params.items()}
     for k, v in params.items():
         if not v:
             raise OrrcValueError(f"parameter {k!r} has no values")
+    frames = math.prod(len(v) for v in params.values())
+    check_size(f"explore over {frames} frames ({' x '.join(f'{k}: {len(v)}' for k, v in params.items())})",
+               nbytes=frames * 2e5, ops=frames * 2e8, hint="keep each parameter to a few values")
+    if initial is not None and not isinstance(initial, dict):
+        raise OrrcValueError(f"initial must be a dict parameter -> value or None; got {type(initial).__name__}")
     initial = dict(initial or {})
     for k, v in params.items():
         initial.setdefault(k, v[0])
