@@ -12,15 +12,16 @@ import argparse
 import sys
 import time
 
-from . import lq_path, pendulum
+from . import comparison, lq_path, pendulum
 from .common import CheckFailed, machine, markdown_table
 
-FULL = {"pendulum": {}, "lq": {}}  # the defaults of pendulum.run and lq_path.run
+FULL = {"pendulum": {}, "lq": {}, "comparison": {}}  # the defaults of pendulum.run and lq_path.run
 QUICK = {
     "pendulum": dict(M=5, thetas=(0.5,), reps_orrc=2, reps_peer=1),
     "lq": dict(T=40, M=5, reps=2),
+    "comparison": dict(T=10, M=4),
 }
-MODULES = {"pendulum": pendulum, "lq": lq_path}
+MODULES = {"pendulum": pendulum, "lq": lq_path, "comparison": comparison}
 
 
 def main(argv=None) -> int:

@@ -5,7 +5,8 @@ controllers, the closed-loop simulator and the metrics. Plotting lives in
 ``orrc.viz`` and is imported only by the book.
 """
 from ._validate import NonFiniteWarning, OrrcValueError, SizeWarning
-from .controllers import LQR, Clairvoyant, Controller, Decision, Observation, PreviewRHC, ZeroInput
+from .controllers import (GPC, LQR, Clairvoyant, Controller, Decision, DisturbanceAction, HInfinity, Observation,
+                          PreviewRHC, RegretOptimal, ZeroInput)
 from .costs import Cost, CostSequence, QuadraticCost, StageCost
 from .disturbances import Ball, Box
 from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
@@ -22,7 +23,8 @@ __all__ = [
     "System", "LinearSystem", "NonlinearSystem",
     "StageCost", "QuadraticCost", "Cost", "CostSequence",
     "Ball", "Box", "disturbances", "examples",
-    "Controller", "Observation", "Decision", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "Plan",
+    "Controller", "Observation", "Decision", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction",
+    "RegretOptimal", "Plan",
     "simulate", "Trajectory",
     "attenuation_regret", "attenuation_ratio", "dynamic_regret",
 ]

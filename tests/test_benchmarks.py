@@ -9,7 +9,7 @@ do fail when the answers differ.
 import numpy as np
 import pytest
 
-from benchmarks import lq_path, pendulum, run
+from benchmarks import comparison, lq_path, pendulum, run
 from benchmarks.common import CheckFailed
 
 
@@ -66,3 +66,17 @@ def test_run_quick_prints_a_table_and_succeeds(capsys):
     out = capsys.readouterr().out
     assert "| benchmark |" in out and "pendulum M=5" in out and "LQ path T=40" in out
     assert "targets not judged" in out
+
+
+def test_comparison_table_has_every_controller_and_the_clairvoyant_is_never_beaten(capsys):
+    rows = comparison.run(T=8, M=3)
+    kinds = {r.data["kind"] for r in rows}
+    assert len(kinds) == 4 and len(rows) == 4 * 9
+    for kind in kinds:
+        rs = [r.data["row"] for r in rows if r.data["kind"] == kind]
+        clair = rs[-1].cost
+        assert rs[-1].name == "clairvoyant optimum" and all(clair <= r.cost * (1 + 1e-9) for r in rs)
+        assert all(r.dynamic_regret == pytest.approx(r.cost - clair) for r in rs)
+    assert run.main(["--quick", "--only", "comparison"]) == 0
+    out = capsys.readouterr().out
+    assert "regret-optimal (T = 10)" in out and "H∞, preview 4" in out

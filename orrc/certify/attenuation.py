@@ -17,6 +17,9 @@ import numpy as np
 from .._validate import PY_CALL_OPS, OrrcValueError, as_float, as_int, check_finite_result, check_size
 from ..controllers.base import Controller
 from ..controllers.baselines import LQR, ZeroInput
+from ..controllers.gpc import GPC, DisturbanceAction
+from ..controllers.hinf import HInfinity
+from ..controllers.regret_optimal import RegretOptimal
 from ..controllers.preview import PreviewRHC
 from ..solvers.plan import SolverWarning
 from ..systems import LinearSystem
@@ -59,34 +62,103 @@ def _sqrt_psd(S: np.ndarray) -> np.ndarray:
     return np.sqrt(np.clip(lam, 0.0, None))[:, None] * V.T
 
 
-def _linear_loop(system, controller, cost):
-    """(K, L, M_w, Q, R): u_t = -K x_t - L vec(w_t..w_{t+M_w-1}) for the supported controllers."""
+@dataclass
+class _Loop:
+    """A linear controller as the certify functions see it:
+
+    u_t = −K x_t − Σ_{i<Mw} L_i w_{t+i} + Σ_{i=1..Hp} Lp_i w_{t−i}   (time-invariant), or
+    u_t = −K x_t + v_t with v = Phi w over a finite horizon (``Phi`` (T_max m, T_max n), causal).
+    """
+
+    K: np.ndarray
+    L: np.ndarray
+    Mw: int
+    Lp: np.ndarray
+    Hp: int
+    Q: np.ndarray
+    R: np.ndarray
+    Phi: np.ndarray | None = None
+    T_max: int | None = None
+
+
+def _linear_loop(system, controller, cost, who: str = "worst_case_attenuation") -> _Loop:
+    """The linear description of the supported controllers (PreviewRHC on the LQ path, any preview_w;
+    HInfinity, with preview; LQR; ZeroInput; DisturbanceAction, a GPC frozen at M; RegretOptimal)."""
     _check_linear_system(system)
     if not isinstance(controller, Controller):
         raise OrrcValueError(f"controller must be an orrc Controller; got {type(controller).__name__}")
     n, m = system.n, system.m
+    none = np.zeros((m, 0))
+    Lp, Hp, Phi, T_max = none, 0, None, None
+    own = getattr(controller, "system", None)
+    if isinstance(own, LinearSystem) and own is not system and not (
+            np.array_equal(own.A, system.A) and np.array_equal(own.B, system.B)):
+        raise OrrcValueError(f"the {type(controller).__name__} controller was built for a different (A, B) than `system`")
     if isinstance(controller, PreviewRHC):
         if controller.solver != "lq":  # PreviewRHC.law is None exactly off the LQ path
             raise OrrcValueError(
-                "worst_case_attenuation needs a linear controller: PreviewRHC on the exact LQ path "
+                f"{who} needs a linear controller: PreviewRHC on the exact LQ path "
                 f"(LinearSystem, QuadraticCost, no bounds); this one uses solver={controller.solver!r}")
-        if controller.system is not system and not (
-                np.array_equal(controller.system.A, system.A) and np.array_equal(controller.system.B, system.B)):
-            raise OrrcValueError("the PreviewRHC controller was built for a different (A, B) than `system`")
-        K, L, Mw = controller.law.K, controller.law.L, controller.M
+        Mw = controller.preview_w  # the unseen disturbances' feed-forward columns drop out (exact)
+        K, L = controller.law.K, controller.law.L[:, :Mw * n]
+    elif isinstance(controller, HInfinity):
+        K, L, Mw = controller.K, controller.L, controller.preview
     elif isinstance(controller, LQR):
-        K, L, Mw = controller.K, np.zeros((m, 0)), 0
+        K, L, Mw = controller.K, none, 0
     elif isinstance(controller, ZeroInput):
-        K, L, Mw = np.zeros((m, n)), np.zeros((m, 0)), 0
+        K, L, Mw = np.zeros((m, n)), none, 0
+    elif isinstance(controller, GPC):
+        raise OrrcValueError(
+            f"{who} needs a linear controller; GPC changes its policy M at every step: freeze it first "
+            "(gpc.frozen(), the policy it ended with, or DisturbanceAction(system, cost, M))")
+    elif isinstance(controller, DisturbanceAction):
+        K, L, Mw = controller.K, none, 0
+        Hp = controller.H
+        Lp = np.hstack(list(controller.M))            # [M_1 ... M_H], (m, H n)
+    elif isinstance(controller, RegretOptimal):
+        K, L, Mw = controller.condensed.K, none, 0
+        Phi, T_max = controller.Phi, controller.T
     else:
         raise OrrcValueError(
-            f"worst_case_attenuation supports PreviewRHC (LQ path), LQR and ZeroInput; got {type(controller).__name__}")
+            f"{who} supports PreviewRHC (LQ path), HInfinity, LQR, ZeroInput, DisturbanceAction (a frozen "
+            f"GPC) and RegretOptimal; got {type(controller).__name__}")
     if K.shape != (m, n):
         raise OrrcValueError(f"the controller's gain has shape {K.shape}; the system needs ({m}, {n})")
     cost = controller.cost if cost is None else cost
-    _check_quadratic_cost(system, cost, "worst_case_attenuation needs the problem's QuadraticCost: pass "
+    _check_quadratic_cost(system, cost, f"{who} needs the problem's QuadraticCost: pass "
                                         f"cost=... (the controller has {type(cost).__name__})")
-    return np.asarray(K, float), np.asarray(L, float), Mw, cost.Q, cost.R
+    return _Loop(np.asarray(K, float), np.asarray(L, float), Mw, np.asarray(Lp, float), Hp, cost.Q, cost.R,
+                 Phi, T_max)
+
+
+def _operators(system, loop: _Loop, T: int) -> tuple[np.ndarray, np.ndarray]:
+    """(X (T n, T n), U (T m, T n)): x_t and u_t for t < T as linear maps of W = (w_0..w_{T-1}), from
+    x_0 = 0 (the preview past T sees zeros, the :func:`orrc.simulate` convention)."""
+    A, B = system.A, system.B
+    n, m = system.n, system.m
+    if loop.Phi is not None and T > loop.T_max:
+        raise OrrcValueError(f"T = {T} is beyond the horizon T = {loop.T_max} the RegretOptimal controller was "
+                             "designed for")
+    N = T * n
+    X = np.zeros((n, N))  # x_t = X vec W
+    Xs, Us = [], []
+    for t in range(T):
+        U = -loop.K @ X
+        for i in range(loop.Mw):
+            k = t + i
+            if k < T:
+                U[:, k * n:(k + 1) * n] -= loop.L[:, i * n:(i + 1) * n]
+        for i in range(1, loop.Hp + 1):
+            k = t - i
+            if k >= 0:
+                U[:, k * n:(k + 1) * n] += loop.Lp[:, (i - 1) * n:i * n]
+        if loop.Phi is not None:
+            U[:, :t * n] += loop.Phi[t * m:(t + 1) * m, :t * n]
+        Xs.append(X)
+        Us.append(U)
+        X = A @ X + B @ U
+        X[:, t * n:(t + 1) * n] += np.eye(n)
+    return np.vstack(Xs), np.vstack(Us)
 
 
 def _top_singular(G: np.ndarray) -> tuple[float, np.ndarray]:
@@ -127,32 +199,19 @@ def worst_case_attenuation(system: LinearSystem, controller: Controller, T: int,
     T rows), so ``orrc.simulate(system, controller, 0, result.w, T)`` gives
     R^p_T(γ*) = 0 up to rounding. ``cost`` defaults to the controller's own cost.
     """
-    K, L, Mw, Q, R = _linear_loop(system, controller, cost)
+    loop = _linear_loop(system, controller, cost)
     T = as_int("T", T, minimum=1)
-    A, B = system.A, system.B
     n, m = system.n, system.m
     n_rows, n_cols = T * (n + m), T * n
     # G and its row blocks (2 copies), dense SVD (small G) or ~100 ARPACK products (large G), the loop
     check_size(f"worst_case_attenuation over T={T} steps (n={n}, m={m}): a {n_rows} x {n_cols} matrix G",
                nbytes=8.0 * n_rows * n_cols * (2 if min(n_rows, n_cols) > 200 else 4),
                ops=(200.0 * n_rows * n_cols if min(n_rows, n_cols) > 200 else 10.0 * n_rows * n_cols ** 2)
-               + T * ((Mw + 6) * PY_CALL_OPS + 6.0 * n * (n + m) * n_cols),
+               + T * ((loop.Mw + loop.Hp + 6) * PY_CALL_OPS + 6.0 * n * (n + m) * n_cols),
                hint="lower T (the level converges in T: worst_case_attenuation_limit gives T → ∞ directly)")
-    Qh, Rh = _sqrt_psd(Q), _sqrt_psd(R)
-    N = T * n
-    X = np.zeros((n, N))  # x_t = X vec W
-    rows = []
-    for t in range(T):
-        U = -K @ X
-        for i in range(Mw):
-            k = t + i
-            if k < T:
-                U[:, k * n:(k + 1) * n] -= L[:, i * n:(i + 1) * n]
-        rows.append(Qh @ X)
-        rows.append(Rh @ U)
-        X = A @ X + B @ U
-        X[:, t * n:(t + 1) * n] += np.eye(n)
-    G = np.vstack(rows)
+    Qh, Rh = _sqrt_psd(loop.Q), _sqrt_psd(loop.R)
+    X, U = _operators(system, loop, T)
+    G = np.vstack([np.vstack([Qh @ X[t * n:(t + 1) * n], Rh @ U[t * m:(t + 1) * m]]) for t in range(T)])
     if not np.all(np.isfinite(G)):
         raise OrrcValueError(f"worst_case_attenuation over T={T}: the closed-loop response overflows (the loop is "
                              "unstable and T too long for floating point, or the weights too large); lower T")
@@ -165,11 +224,25 @@ def worst_case_attenuation(system: LinearSystem, controller: Controller, T: int,
     return Attenuation(gamma=gamma, w=w, T=T, G=G)
 
 
-def _closed_loop_ss(system, K, L, Mw, Q, R):
-    """State space (A, B, C, D) from the newest previewed disturbance to z = [Q^{1/2}x; R^{1/2}u]."""
+def _closed_loop_ss(system, loop: _Loop):
+    """State space (A, B, C, D) from the newest previewed disturbance to z = [Q^{1/2}x; R^{1/2}u]
+    (for a controller with memory of past w: from w_t, the state holding w_{t-1}..w_{t-Hp})."""
+    K, L, Mw, Q, R = loop.K, loop.L, loop.Mw, loop.Q, loop.R
     A, Bu = system.A, system.B
     n, m = Bu.shape
     Qh, Rh = _sqrt_psd(Q), _sqrt_psd(R)
+    if loop.Hp:
+        # state ξ = [x; b_1; ...; b_H] with b_i = w_{t-i}; input w_t; u = -Kx + Σ M_i b_i
+        nb = loop.Hp * n
+        Ac = np.zeros((n + nb, n + nb))
+        Ac[:n, :n] = A - Bu @ K
+        Ac[:n, n:] = Bu @ loop.Lp
+        Ac[2 * n:, n:n + nb - n] = np.eye(nb - n)        # b_{i+1}⁺ = b_i
+        Bc = np.zeros((n + nb, n))
+        Bc[:n] = np.eye(n)
+        Bc[n:2 * n] = np.eye(n)                          # b_1⁺ = w_t
+        Cc = np.vstack([np.hstack([Qh, np.zeros((Qh.shape[0], nb))]), np.hstack([-Rh @ K, Rh @ loop.Lp])])
+        return Ac, Bc, Cc, np.zeros((Cc.shape[0], n))
     if Mw <= 1:
         # LQR / zero input: the input is w_t itself. Preview M = 1: u = -Kx - L_0 w_t.
         L0 = L[:, :n] if Mw == 1 else np.zeros((m, n))
@@ -228,19 +301,24 @@ def worst_case_attenuation_limit(system: LinearSystem, controller: Controller, c
     transform s = 2(z - 1)/(z + 1), which maps the unit circle onto the imaginary axis and
     preserves the H∞ norm (the same map python-control applies internally); and since its
     routine (0.10.2) assumes a square transfer matrix, zero input columns are appended
-    (σ_max([G 0]) = σ_max(G)). An unstable closed loop has no finite limit: ``gamma = inf``
+    (σ_max([G 0]) = σ_max(G)). Its bisection can stop short of the peak by up to ~1e-4
+    (relative), so the level is the larger of its result and the peak of the frequency response
+    (a grid refined by a scalar search), both lower bounds on the norm. An unstable closed loop has no finite limit: ``gamma = inf``
     with a ``reason``.
     """
     import control
 
-    K, L, Mw, Q, R = _linear_loop(system, controller, cost)
+    loop = _linear_loop(system, controller, cost, "worst_case_attenuation_limit")
+    if loop.Phi is not None:
+        raise OrrcValueError("worst_case_attenuation_limit needs a time-invariant controller; RegretOptimal is "
+                             f"designed for a finite horizon (T = {loop.T_max}): use worst_case_attenuation")
     if start not in ("stationary", "cold"):
         raise OrrcValueError(f"start must be 'stationary' or 'cold'; got {start!r}")
     tol = as_float("tol", tol, minimum=0.0, strict_min=True)
-    k = system.n * max(Mw, 1)
-    check_size(f"worst_case_attenuation_limit for a closed loop of {k} states (n={system.n}, preview M={Mw})",
+    k = system.n * max(loop.Mw, loop.Hp + 1, 1)
+    check_size(f"worst_case_attenuation_limit for a closed loop of {k} states (n={system.n}, preview M={loop.Mw})",
                nbytes=8.0 * 40 * k * k, ops=400.0 * k ** 3, hint="lower the controller's horizon M")
-    Ad, Bd, Cd, Dd = _closed_loop_ss(system, K, L, Mw, Q, R)
+    Ad, Bd, Cd, Dd = _closed_loop_ss(system, loop)
     sys_d = control.ss(Ad, Bd, Cd, Dd, dt=True)
     rho = float(np.max(np.abs(np.linalg.eigvals(Ad))))
     # python-control's H∞ routine (method "scipy") tests poles and Hamiltonian eigenvalues for
@@ -273,12 +351,39 @@ def worst_case_attenuation_limit(system: LinearSystem, controller: Controller, c
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         norm = float(control.system_norm(sys_c, p="inf", tol=tol, method="scipy"))
-    gamma_inf = norm ** 2
+    gamma_inf = max(norm ** 2, _peak_gain_sq(Ad, Bd, Cd, Dd))
     n = system.n
-    if start == "stationary" or Ad.shape[0] == n or gamma_inf == 0.0:
+    if start == "stationary" or Ad.shape[0] == n or gamma_inf == 0.0 or loop.Hp:  # past memory starts empty
         return Attenuation(gamma=gamma_inf, closed_loop=sys_d, start=start)
     return Attenuation(gamma=_cold_start_level(Ad, Bd, Cd, Dd, n, gamma_inf, tol), closed_loop=sys_d,
                        start=start)
+
+
+def _peak_gain_sq(A, B, C, D, grid: int = 256) -> float:
+    """max_ω σ_max(C(e^{jω}I − A)⁻¹B + D)² on a grid of [0, π], refined by a bounded scalar search
+    around the three best grid points: a lower bound on the squared H∞ norm of a stable loop.
+
+    python-control's bisection (0.10.2) calls a Hamiltonian eigenvalue imaginary when its real part
+    is within 1e-8 of zero, and on some loops stops up to ~1e-4 (relative) short of the peak; the
+    level reported is the larger of the two lower bounds."""
+    from scipy import optimize
+
+    N = A.shape[0]
+    I = np.eye(N)
+
+    def gain(om):
+        G = C @ np.linalg.solve(np.exp(1j * om) * I - A, B) + D
+        return float(np.linalg.svd(G, compute_uv=False)[0] ** 2)
+
+    om = np.linspace(0.0, np.pi, grid)
+    g = np.array([gain(o) for o in om])
+    best = float(g.max())
+    for i in np.argsort(g)[-3:]:
+        lo, hi = om[max(i - 1, 0)], om[min(i + 1, grid - 1)]
+        res = optimize.minimize_scalar(lambda o: -gain(o), bounds=(lo, hi), method="bounded",
+                                       options={"xatol": 1e-10})
+        best = max(best, -float(res.fun))
+    return best
 
 
 def _cold_start_level(A, B, C, D, n, gamma_inf, tol):

@@ -117,6 +117,12 @@ def _trajectory(traj, M):
             "and value_valid): the lemmas are about Algorithm 1's optimal values, which these steps do not have. "
             "Re-run with solver options that converge (e.g. a larger ipopt.max_iter)")
     M = as_int("M", M, minimum=2)
+    if traj.preview_w < traj.preview_c:
+        raise OrrcValueError(
+            f"the trajectory's controller planned over M_c = {traj.preview_c} steps but saw only "
+            f"M_w = {traj.preview_w} future disturbances (PreviewRHC(..., preview_w={traj.preview_w})): "
+            "Lemma 1, Lemma 2 and Theorem 1 are about Algorithm 1, which sees the whole window "
+            "(preview_w = M)")
     if traj.preview_w != M:
         raise OrrcValueError(
             f"M={M} but the trajectory's controller previewed M_w={traj.preview_w} disturbances; the "

@@ -3,6 +3,10 @@
 from .base import Controller, Decision, Observation
 from .baselines import LQR, Clairvoyant, ZeroInput
 from .failures import FailureLadder
+from .gpc import GPC, DisturbanceAction
+from .hinf import HInfinity
+from .regret_optimal import RegretOptimal
 from .preview import PreviewRHC
 
-__all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "FailureLadder"]
+__all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "FailureLadder",
+           "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal"]

@@ -77,6 +77,12 @@ class PreviewRHC(Controller):
         exact LQ path has no options and warns that they are ignored.
     max_failures : consecutive failed steps after which :meth:`control` stops with
         :class:`~orrc.SolverError` (default 3); None never stops.
+    preview_w : k with 0 <= k <= M (default M): how many future disturbances w_t..w_{t+k-1} the
+        controller sees; the plan still runs over M steps, with the unseen w_{t+k..t+M-1} taken
+        as zero (the paper's M_w <= M_c). k = M is Algorithm 1; k = 0 is the naive
+        certainty-equivalence MPC. On the LQ path the law is exact: the feed-forward columns of
+        the unseen disturbances are dropped (u = -Kx - L[:, :kn] vec(w_t..w_{t+k-1})). The
+        lemmas and Theorem 1 assume k = M (``orrc.checks`` refuse a trajectory with k < M).
 
     Solver failures (NLP path) follow :mod:`orrc.controllers.failures`: a failed solve is retried
     from a cold start; if that fails too, the step applies the previous successful plan shifted
@@ -95,7 +101,7 @@ class PreviewRHC(Controller):
 
     def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
                  terminal_cost=None, state_bounds=None, solver: str = "auto", solver_options=None,
-                 max_failures: int | None = DEFAULT_MAX_FAILURES):
+                 max_failures: int | None = DEFAULT_MAX_FAILURES, preview_w: int | None = None):
         if not isinstance(system, System):
             raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
         if not isinstance(cost, StageCost):
@@ -103,7 +109,13 @@ class PreviewRHC(Controller):
         cost.check_dims(system.n, system.m)
         self.M = as_int("M", M, minimum=1)
         self.system, self.cost = system, cost
-        self.preview_w = self.preview_c = self.M
+        self.preview_c = self.M
+        self.preview_w = self.M if preview_w is None else as_int("preview_w", preview_w, minimum=0)
+        if self.preview_w > self.M:
+            raise OrrcValueError(f"preview_w must be between 0 and M = {self.M} (the plan's horizon); "
+                                 f"got {self.preview_w}")
+        if self.preview_w < self.M:
+            self.name = f"preview RHC, k = {self.preview_w}"
         self.input_bounds = _bounds("input_bounds", input_bounds, system.m)
         self.state_bounds = _bounds("state_bounds", state_bounds, system.n)
         if not isinstance(solver, str) or solver not in ("auto", "lq", "nlp"):
@@ -158,11 +170,12 @@ class PreviewRHC(Controller):
         w_preview = as_array("w_preview", w_preview)
         if w_preview.ndim == 1 and n == 1:
             w_preview = w_preview[:, None]
-        if w_preview.ndim != 2 or w_preview.shape[1] != n or w_preview.shape[0] < self.M:
-            raise OrrcValueError(
-                f"w_preview must have shape (M, n) = ({self.M}, {n}) (at least M rows); got shape "
-                f"{w_preview.shape}")
-        w_preview = w_preview[: self.M]
+        k = self.preview_w
+        if w_preview.ndim != 2 or w_preview.shape[1] != n or w_preview.shape[0] < k:
+            want = f"(M, n) = ({self.M}, {n}) (at least M rows)" if k == self.M else \
+                f"(k, n) = ({k}, {n}) (at least preview_w = k rows)"
+            raise OrrcValueError(f"w_preview must have shape {want}; got shape {w_preview.shape}")
+        w_preview = self._pad(w_preview[:k])
         if cost_params is None:
             P = np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
         else:
@@ -172,6 +185,14 @@ class PreviewRHC(Controller):
                     f"cost_params must have at least M={self.M} rows; got shape {P.shape}")
             P = P[: self.M]
         return x, w_preview, P
+
+    def _pad(self, W):
+        """The M-row disturbance of the plan: the k seen rows, zeros for the unseen ones."""
+        if len(W) == self.M:
+            return W
+        out = np.zeros((self.M, self.system.n))
+        out[:len(W)] = W
+        return out
 
     def _check_warm_start(self, warm_start):
         if warm_start is None:
@@ -244,12 +265,13 @@ class PreviewRHC(Controller):
         self._ladder.reset()
 
     def control(self, obs: Observation) -> Decision:
+        W = obs.w_preview if self.preview_w == self.M else self._pad(obs.w_preview)
         if self.solver == "lq" and obs.cost_params is None:
-            u, value = self.law.input_and_value(obs.x, obs.w_preview)
+            u, value = self.law.input_and_value(obs.x, W)
             return Decision(u=u, value=value)
         P = (np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
              if obs.cost_params is None else obs.cost_params)
-        x, W, invariant = obs.x, obs.w_preview, obs.cost_params is None
+        x, invariant = obs.x, obs.cost_params is None
         if self.solver == "lq":
             plan = self._plan(x, W, P, invariant, None)
         else:
@@ -260,4 +282,5 @@ class PreviewRHC(Controller):
                         fallback=plan.fallback)
 
     def __repr__(self):
-        return f"PreviewRHC(M={self.M}, solver={self.solver!r}, system={self.system!r})"
+        k = "" if self.preview_w == self.M else f", preview_w={self.preview_w}"
+        return f"PreviewRHC(M={self.M}{k}, solver={self.solver!r}, system={self.system!r})"

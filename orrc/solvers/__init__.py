@@ -1,4 +1,5 @@
 """Solvers of the M-step problems. They know nothing of time: x, W, costs in, plan out."""
+from . import game
 from .plan import Plan, SolverError, SolverWarning
 
-__all__ = ["Plan", "SolverWarning", "SolverError"]
+__all__ = ["Plan", "SolverWarning", "SolverError", "game"]

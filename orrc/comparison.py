@@ -1,0 +1,114 @@
+"""Comparisons of controllers on one problem (the comparison chapter and ``benchmarks/comparison.py``).
+
+* :func:`compare` -- every controller on the same disturbance: total cost, attenuation ratio,
+  R^p_T(γ), dynamic regret against :class:`~orrc.Clairvoyant`, and for linear loops the exact
+  worst-case attenuation and worst-case regret over T steps (:mod:`orrc.certify`);
+* :func:`preview_value` -- the dynamic regret of ``PreviewRHC(M, preview_w=k)`` against k, with the
+  exponential fit regret(k) − regret(M) ≈ C r^k and the rate ρ(A − BK_LQR)² that the literature
+  predicts (Yu, Shi, Chung, Yue and Wierman 2020; Zhang, Li and Li 2021).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._validate import OrrcValueError, as_float, as_int
+
+__all__ = ["ComparisonRow", "compare", "PreviewValue", "preview_value"]
+
+
+@dataclass
+class ComparisonRow:
+    """One controller on one disturbance (see :func:`compare`); worst-case fields are None for a
+    controller that is not a linear loop (nonlinear system, input bounds, a learning GPC)."""
+
+    name: str
+    cost: float
+    ratio: float
+    regret_p: float
+    dynamic_regret: float
+    worst_attenuation: float | None
+    worst_regret: float | None
+
+
+def compare(system, cost, controllers: dict, w, T: int, gamma: float, x0=None, worst_case: bool = True,
+            clairvoyant_kwargs=None) -> list[ComparisonRow]:
+    """Run every controller of ``controllers`` (label -> Controller) on ``w`` for T steps from ``x0``
+    (default 0) and return one :class:`ComparisonRow` each, plus the clairvoyant optimum's row.
+
+    The worst-case attenuation (:func:`orrc.certify.worst_case_attenuation`) and regret
+    (:func:`orrc.certify.worst_case_regret`) over the same T are added for linear loops.
+    """
+    from . import certify
+    from .controllers import Clairvoyant, Controller
+    from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
+    from .simulate import simulate
+    from .systems import LinearSystem
+
+    if not isinstance(controllers, dict) or not controllers:
+        raise OrrcValueError("controllers must be a non-empty dict label -> orrc Controller")
+    for k, c in controllers.items():
+        if not isinstance(c, Controller):
+            raise OrrcValueError(f"controllers[{k!r}] must be an orrc Controller; got {type(c).__name__}")
+    T = as_int("T", T, minimum=1)
+    gamma = as_float("gamma", gamma, minimum=0.0)
+    x0 = np.zeros(system.n) if x0 is None else np.asarray(x0, float)
+    clair = simulate(system, Clairvoyant(system, cost, T, **(clairvoyant_kwargs or {})), x0, w, T)
+    rows = []
+    for label, ctrl in {**controllers, "clairvoyant optimum": None}.items():
+        tr = clair if ctrl is None else simulate(system, ctrl, x0, w, T)
+        wa = wr = None
+        if worst_case and ctrl is not None and isinstance(system, LinearSystem):
+            try:
+                wa = certify.worst_case_attenuation(system, ctrl, T, cost=cost).gamma
+                wr = certify.worst_case_regret(system, ctrl, T, cost=cost).regret
+            except OrrcValueError:
+                pass
+        rows.append(ComparisonRow(label, float(tr.costs.sum()), attenuation_ratio(tr), attenuation_regret(tr, gamma),
+                                  dynamic_regret(tr, clair), wa, wr))
+    return rows
+
+
+@dataclass
+class PreviewValue:
+    """ks, regret (dynamic regret of PreviewRHC(M, preview_w=k)), excess = regret − regret at k = M,
+    rate (the fitted r of excess ≈ C r^k), r2 (of the log-linear fit), rho_sq = ρ(A − BK_LQR)²."""
+
+    ks: np.ndarray
+    regret: np.ndarray
+    excess: np.ndarray
+    rate: float
+    r2: float
+    rho_sq: float
+    M: int
+
+
+def preview_value(system, cost, M: int, ks, w, T: int, x0=None, fit_above: float = 1e-8) -> PreviewValue:
+    """The dynamic regret of preview RHC against the number k of previewed disturbances (see the module doc).
+
+    The fit uses the points whose excess is above ``fit_above`` times the largest (below it the excess
+    is rounding)."""
+    from .controllers import LQR, Clairvoyant, PreviewRHC
+    from .simulate import simulate
+
+    M = as_int("M", M, minimum=1)
+    ks = np.array([as_int("ks[i]", int(k), minimum=0) for k in ks])
+    if ks.size < 3 or ks.max() > M:
+        raise OrrcValueError(f"ks must hold at least 3 preview lengths between 0 and M = {M}; got {list(ks)}")
+    x0 = np.zeros(system.n) if x0 is None else np.asarray(x0, float)
+    clair = simulate(system, Clairvoyant(system, cost, T), x0, w, T).costs.sum()
+
+    def regret(k):
+        return simulate(system, PreviewRHC(system, cost, M, preview_w=int(k)), x0, w, T).costs.sum() - clair
+
+    reg = np.array([regret(k) for k in ks])
+    excess = reg - regret(M)
+    use = excess > fit_above * excess.max()
+    slope, icpt = np.polyfit(ks[use], np.log(excess[use]), 1)
+    resid = np.log(excess[use]) - (slope * ks[use] + icpt)
+    tot = np.sum((np.log(excess[use]) - np.log(excess[use]).mean()) ** 2)
+    lqr = LQR(system, cost)
+    A, B = (system.A, system.B) if hasattr(system, "A") else system.linearize()
+    rho = float(np.max(np.abs(np.linalg.eigvals(A - B @ lqr.K))))
+    return PreviewValue(ks, reg, excess, float(np.exp(slope)), float(1 - resid @ resid / tot), rho ** 2, M)

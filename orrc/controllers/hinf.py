@@ -1,0 +1,121 @@
+"""The discrete H∞ state-feedback controller, with and without disturbance preview.
+
+The disturbance-to-cost channel of the paper: x_{t+1} = Ax_t + Bu_t + w_t and the cost output
+z_t = [Q^½x_t; R^½u_t], so Σ c_t = Σ ‖z_t‖². The H∞ controller at level γ guarantees
+Σ c_t <= γ Σ ‖w_t‖² + (a constant set by the initial state) for every disturbance, the paper's
+attenuation in the paper's convention (γ the squared gain). It is the minimiser's saddle-point
+policy of the soft-constrained game of :mod:`orrc.solvers.game` (Başar and Bernhard 1995).
+
+With preview k the controller also sees w_t..w_{t+k-1}. The game is then played on the state
+augmented with the preview buffer, ξ_t = [x_t; w_t; ...; w_{t+k-1}]:
+
+    ξ_{t+1} = Ā ξ_t + B̄ u_t + Ē v_t,   v_t = w_{t+k} (the next, still unseen, disturbance),
+
+with Ā = [[A, I, 0..], [0, 0, I, ..], ..., [0 ... 0]], B̄ = [B; 0], Ē = [0; ...; I] and the
+cost weight diag(Q, 0). Its optimal level is the best attenuation achievable with k steps of
+preview (over every causal controller that sees k disturbances ahead: full information makes
+a static feedback on ξ optimal), and the controller is u_t = −K x_t − L vec(w_t..w_{t+k-1}),
+the same form as Algorithm 1's LQ law (:class:`~orrc.PreviewRHC`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .._validate import OrrcValueError, as_float, as_int
+from ..costs import QuadraticCost
+from ..solvers import game
+from ..systems import LinearSystem, NonlinearSystem, System
+from .base import Controller, Decision, Observation
+
+__all__ = ["HInfinity", "preview_buffer_system"]
+
+GAMMA_MARGIN = 1e-5  # gamma=None: the controller is built this far (relative) above the optimal level
+
+
+def preview_buffer_system(A, B, Q, k: int):
+    """(Ā, B̄, Q̄, Ē) of the system augmented with a preview buffer of k disturbances (k >= 1).
+
+    ξ = [x; w_t; ...; w_{t+k-1}], ξ⁺ = Āξ + B̄u + Ēv with v = w_{t+k}; cost weight Q̄ = diag(Q, 0).
+    """
+    n, m = B.shape
+    N = n * (k + 1)
+    Ab = np.zeros((N, N))
+    Ab[:n, :n] = A
+    Ab[:n, n:2 * n] = np.eye(n)                        # x⁺ = Ax + Bu + w_t (the buffer's head)
+    Ab[n:N - n, 2 * n:] = np.eye(N - 2 * n)            # the buffer shifts by one
+    Bb = np.zeros((N, m))
+    Bb[:n] = B
+    Eb = np.zeros((N, n))
+    Eb[N - n:] = np.eye(n)                             # v enters at the buffer's tail
+    Qb = np.zeros((N, N))
+    Qb[:n, :n] = Q
+    return Ab, Bb, Qb, Eb
+
+
+class HInfinity(Controller):
+    """The H∞ state-feedback controller at level γ (the paper's convention: γ is the squared gain).
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem` (a :class:`~orrc.NonlinearSystem` is replaced by its
+        linearisation at the origin, as :class:`~orrc.LQR` does).
+    cost : the :class:`~orrc.QuadraticCost` whose stage cost is the output's energy.
+    gamma : the level, or None (default) for the optimal level, found by bisection on the game
+        Riccati equation (:func:`orrc.solvers.game.optimal_game_level`); the controller is then
+        built at ``gamma_opt·(1 + 1e-5)``, just above it (at the optimum itself the Riccati
+        equation has no stabilising solution). A given ``gamma`` at or below the optimal level
+        raises :class:`~orrc.OrrcValueError` naming that level.
+    preview : k >= 0, the number of future disturbances w_t..w_{t+k-1} the controller sees.
+
+    Attributes: ``gamma`` (the level the controller is built at), ``gamma_opt`` (the optimal
+    level, when gamma was None), ``K`` (m, n) and ``L`` (m, k n) with u = −Kx − L vec(w_t..),
+    ``P`` the game's Riccati solution, ``Kw`` the worst-case disturbance gain.
+
+    Solvers: ``scipy.linalg.solve_discrete_are`` with the indefinite weight diag(R, −γI)
+    (:func:`orrc.solvers.game.stationary_game`); the closed loop's H∞ norm (the check of the
+    tests and of :func:`orrc.certify.worst_case_attenuation_limit`) is python-control's
+    ``system_norm``.
+    """
+
+    name = "H∞"
+
+    def __init__(self, system: System, cost: QuadraticCost, gamma: float | None = None, preview: int = 0):
+        if not isinstance(system, System):
+            raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
+        if not isinstance(cost, QuadraticCost):
+            raise OrrcValueError(f"HInfinity needs a QuadraticCost (the cost output [Q^½x; R^½u]); got "
+                                 f"{type(cost).__name__}")
+        cost.check_dims(system.n, system.m)
+        self.preview = as_int("preview", preview, minimum=0)
+        A, B = (system.A, system.B) if isinstance(system, LinearSystem) else system.linearize()
+        game.check_stabilisable(A, B)
+        n = A.shape[0]
+        if self.preview:
+            Ab, Bb, Qb, Eb = preview_buffer_system(A, B, cost.Q, self.preview)
+        else:
+            Ab, Bb, Qb, Eb = A, B, cost.Q, np.eye(n)
+        if gamma is None:
+            self.gamma_opt = game.optimal_game_level(Ab, Bb, Qb, cost.R, E=Eb)
+            gamma = self.gamma_opt * (1.0 + GAMMA_MARGIN)
+        else:
+            gamma = as_float("gamma", gamma, minimum=0.0, strict_min=True)
+            self.gamma_opt = None
+        self.solution = game.stationary_game(Ab, Bb, Qb, cost.R, gamma, E=Eb)
+        self.gamma = float(gamma)
+        Kbar = self.solution.K[0]
+        self.K, self.L = Kbar[:, :n].copy(), Kbar[:, n:].copy()
+        self.P, self.Kw = self.solution.P[0], self.solution.Kw[0]
+        self.preview_w, self.preview_c = self.preview, 0
+        self.system, self.cost = system, cost
+        self.linearized = isinstance(system, NonlinearSystem)
+        if self.preview:
+            self.name = f"H∞, preview {self.preview}"
+
+    def control(self, obs: Observation) -> Decision:
+        u = -self.K @ obs.x
+        if self.preview:
+            u = u - self.L @ obs.w_preview.reshape(-1)
+        return Decision(u=u)
+
+    def __repr__(self):
+        return f"HInfinity(gamma={self.gamma:.6g}, preview={self.preview}, system={self.system!r})"

@@ -1,0 +1,88 @@
+"""Figures of the comparison chapter.
+
+* :func:`metric_bars` -- one metric (total cost, attenuation ratio, R^p_T(γ), dynamic regret, worst
+  cases) for every controller, as horizontal bars (a rows list of :func:`orrc.comparison.compare`);
+* :func:`preview_decay` -- the dynamic regret of preview RHC against k, with its exponential fit and
+  the rate ρ(A − BK)² of the literature (:func:`orrc.comparison.preview_value`);
+* :func:`running_cost` -- Σ_{s<=t} c_s of several trajectories against t (an explorer frame).
+"""
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from .._validate import OrrcValueError
+from .plots import _figure, _nonempty_dict, _trajs, controller_color
+
+__all__ = ["metric_bars", "preview_decay", "running_cost"]
+
+_METRICS = {"cost": "total cost Σ c_t", "ratio": "attenuation ratio Σc / Σ‖w‖²",
+            "regret_p": "R^p_T(γ)", "dynamic_regret": "dynamic regret",
+            "worst_attenuation": "worst-case level γ*_T", "worst_regret": "worst-case regret (‖w‖ ≤ 1)"}
+
+
+def metric_bars(rows, metric: str, title: str | None = None, log: bool = False) -> Figure:
+    """Horizontal bars of ``metric`` (a field of :class:`orrc.comparison.ComparisonRow`) per controller;
+    rows whose value is None (not a linear loop) are left out."""
+    from ..comparison import ComparisonRow
+
+    if metric not in _METRICS:
+        raise OrrcValueError(f"metric must be one of {sorted(_METRICS)}; got {metric!r}")
+    if not isinstance(rows, (list, tuple)) or not rows or not all(isinstance(r, ComparisonRow) for r in rows):
+        raise OrrcValueError("rows must be a non-empty list of orrc.comparison.ComparisonRow (from compare)")
+    kept = [r for r in rows if getattr(r, metric) is not None]
+    if not kept:
+        raise OrrcValueError(f"no row has a value for {metric!r}")
+    fig, axes = _figure(width=7.0, height=0.45 * len(kept) + 1.2)
+    ax = axes[0, 0]
+    vals = [float(getattr(r, metric)) for r in kept]
+    y = np.arange(len(kept))[::-1]
+    ax.barh(y, vals, color=[controller_color(r.name, i) for i, r in enumerate(kept)])
+    ax.set_yticks(y, [r.name for r in kept], fontsize=9)
+    if log:
+        ax.set_xscale("log")
+    ax.axvline(0.0, color="0.3", linewidth=0.8)
+    ax.set_xlabel(_METRICS[metric])
+    if title:
+        ax.set_title(title, fontsize=10)
+    return fig
+
+
+def preview_decay(pv, title: str | None = None) -> Figure:
+    """regret(k) − regret(M) of preview RHC against k (dots, log scale), the fitted C r^k (line) and
+    the slope ρ² of the literature (dashed, through the first point)."""
+    from ..comparison import PreviewValue
+
+    if not isinstance(pv, PreviewValue):
+        raise OrrcValueError(f"pv must be an orrc.comparison.PreviewValue; got {type(pv).__name__}")
+    fig, axes = _figure(width=6.5, height=3.4)
+    ax = axes[0, 0]
+    ok = pv.excess > 0
+    ax.semilogy(pv.ks[ok], pv.excess[ok], "o", color="tab:blue", label="dynamic regret, minus its value at k = M")
+    k0 = pv.ks[ok][0]
+    c0 = pv.excess[ok][0]
+    ax.semilogy(pv.ks, c0 * pv.rate ** (pv.ks - k0), "-", color="tab:blue",
+                label=f"fit C·r^k, r = {pv.rate:.3g} (R² = {pv.r2:.3f})")
+    ax.semilogy(pv.ks, c0 * pv.rho_sq ** (pv.ks - k0), "--", color="black", label=f"ρ(A − BK)^(2k), ρ² = {pv.rho_sq:.3g}")
+    ax.set_xlabel("previewed disturbances k")
+    ax.set_ylabel("excess dynamic regret")
+    ax.legend(fontsize=9, loc="upper right")
+    if title:
+        ax.set_title(title, fontsize=10)
+    return fig
+
+
+def running_cost(trajs: dict, title: str | None = None, fast: bool = False) -> Figure:
+    """Σ_{s<=t} c_s against t for each trajectory (label -> Trajectory)."""
+    trajs = _trajs(_nonempty_dict("trajs", trajs, "Trajectory"))
+    fig, axes = _figure(width=6.5, height=3.4, fast=fast, margins={"left": 0.12, "bottom": 0.15})
+    ax = axes[0, 0]
+    for i, (label, tr) in enumerate(trajs.items()):
+        ax.plot(np.arange(1, tr.T + 1), np.cumsum(tr.costs), color=controller_color(label, i), label=label,
+                linestyle="--" if "clairvoyant" in label.lower() else "-")
+    ax.set_xlabel("$t$")
+    ax.set_ylabel(r"$\sum_{s \leq t} c_s$")
+    ax.legend(fontsize=9, loc="upper left")
+    if title:
+        ax.set_title(title, fontsize=10)
+    return fig
