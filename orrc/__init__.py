@@ -5,26 +5,27 @@ controllers, the closed-loop simulator and the metrics. Plotting lives in
 ``orrc.viz`` and is imported only by the book.
 """
 from ._validate import NonFiniteWarning, OrrcValueError, SizeWarning
-from .controllers import (GPC, LQR, Clairvoyant, Controller, Decision, DisturbanceAction, HInfinity, Observation,
-                          PreviewRHC, RegretOptimal, ZeroInput)
-from .costs import Cost, CostSequence, QuadraticCost, StageCost
+from .controllers import (GPC, LQR, Clairvoyant, Controller, Decision, DisturbanceAction, EstimateThenControl, HInfinity,
+                          LiftedRHC, Observation, PreviewRHC, RegretOptimal, ZeroInput)
+from .costs import Cost, CostSequence, L1Cost, QuadraticCost, StageCost
 from .disturbances import Ball, Box
 from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
 from .simulate import Trajectory, simulate
 from .solvers.plan import Plan, SolverError, SolverWarning
 from .systems import LinearSystem, NonlinearSystem, System
+from .parametric import LinearParametricSystem, ParametricSystem
 from . import config, disturbances, examples
-from . import certify, checks, theory
+from . import certify, checks, estimation, theory, tradeoff
 
 __version__ = "0.1.0"
 
 __all__ = [
     "OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning",
-    "System", "LinearSystem", "NonlinearSystem",
-    "StageCost", "QuadraticCost", "Cost", "CostSequence",
+    "System", "LinearSystem", "NonlinearSystem", "ParametricSystem", "LinearParametricSystem",
+    "StageCost", "QuadraticCost", "L1Cost", "Cost", "CostSequence",
     "Ball", "Box", "disturbances", "examples",
-    "Controller", "Observation", "Decision", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction",
-    "RegretOptimal", "Plan",
+    "Controller", "Observation", "Decision", "PreviewRHC", "EstimateThenControl", "LiftedRHC", "LQR",
+    "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "Plan",
     "simulate", "Trajectory",
     "attenuation_regret", "attenuation_ratio", "dynamic_regret",
 ]

@@ -9,6 +9,8 @@ hands to a controller as its cost preview c_{t:t+M_c-1}.
 * :class:`QuadraticCost` -- c(x, u) = xᵀQx + uᵀRu, σ(x) = ‖x‖², α_lo = λ_min(Q);
   its parameters are (vec Q, vec R), so :meth:`QuadraticCost.sequence` builds
   time-varying Q_t, R_t.
+* :class:`L1Cost` -- c(x, u) = Σ q_i |x_i| + uᵀRu, σ(x) = ‖x‖₁: Lipschitz in x (the unknown-system
+  chapters use it: a wrong model then costs in proportion to its error, not to its square);
 * :class:`Cost` -- any cost written with CasADi operations (non-convex allowed,
   as in the paper), with a user σ and α_lo.
 """
@@ -304,3 +306,40 @@ class CostSequence:
 
     def sigma(self, x) -> float:
         return self.stage.sigma(x)
+
+
+class L1Cost(StageCost):
+    """c(x, u) = Σ_i q_i |x_i| + uᵀRu: a Lipschitz cost in x (Assumption 2 asks for Lipschitz costs),
+    convex, strongly convex in u (Section 5.2, Assumption (vii)); σ(x) = ‖x‖₁, α_lo = min_i q_i.
+
+    On a :class:`~orrc.LinearSystem`, :class:`~orrc.PreviewRHC` solves its M-step problem exactly as
+    a quadratic program (``orrc.solvers.qp``); elsewhere the CasADi path uses |x| (``fabs``), which is
+    not smooth at 0. Time invariant (no parameters).
+    """
+
+    def __init__(self, q, R, name: str = "l1 cost"):
+        q = as_array("q", q)
+        q = q.reshape(-1) if q.ndim <= 1 else q
+        if q.ndim != 1 or q.size == 0 or np.any(q <= 0):
+            raise OrrcValueError(f"q must be a vector of positive weights; got {q!r}")
+        R = as_square("R", R)
+        check_psd("R", R, strict=True)
+        self.q, self.R = q, R
+        self.n, self.m = q.size, R.shape[0]
+        self.n_params = 0
+        self.default_params = np.zeros(0)
+        self.alpha_lo = float(q.min())
+        self.name = name
+
+    def expr(self, x, u, p=None):
+        return ca.dot(ca.DM(self.q), ca.fabs(x)) + ca.bilin(ca.DM(self.R), u, u)
+
+    def value(self, x, u, p=None) -> float:
+        x, u = np.asarray(x, dtype=float), np.asarray(u, dtype=float)
+        return float(self.q @ np.abs(x) + u @ self.R @ u)
+
+    def sigma(self, x) -> float:
+        return float(np.sum(np.abs(np.asarray(x, dtype=float))))
+
+    def __repr__(self):
+        return f"L1Cost(n={self.n}, m={self.m}, alpha_lo={self.alpha_lo:.4g})"

@@ -22,6 +22,20 @@ import numpy as np
 from ._validate import OrrcValueError, as_array, as_int, as_square, check_evaluates
 
 
+def traced(f: Callable, args: tuple, n: int, signature: str):
+    """``f(*args)`` traced on CasADi symbols: the next state as an (n, 1) SX, or a clear error naming
+    ``signature`` when f is not CasADi-traceable or does not return n values."""
+    try:
+        out = ca.vec(ca.SX(f(*args)))
+    except Exception as exc:  # the user function is not CasADi-traceable
+        raise OrrcValueError(
+            f"{signature} must be written with CasADi operations (ca.sin, ca.vertcat, ...); "
+            f"tracing it failed with: {exc}") from exc
+    if out.shape != (n, 1):
+        raise OrrcValueError(f"{signature} must return a vector of length n_states={n}; got shape {out.shape}")
+    return out
+
+
 class System:
     """Common interface; see :class:`LinearSystem` and :class:`NonlinearSystem`."""
 
@@ -121,15 +135,7 @@ class NonlinearSystem(System):
         self.name = name
         self._f = f
         x, u, w = ca.SX.sym("x", self.n), ca.SX.sym("u", self.m), ca.SX.sym("w", self.n)
-        try:
-            out = ca.vec(ca.SX(f(x, u, w)))
-        except Exception as exc:  # the user function is not CasADi-traceable
-            raise OrrcValueError(
-                "f(x, u, w) must be written with CasADi operations (ca.sin, ca.vertcat, ...); "
-                f"tracing it failed with: {exc}") from exc
-        if out.shape != (self.n, 1):
-            raise OrrcValueError(
-                f"f(x, u, w) must return a vector of length n_states={self.n}; got shape {out.shape}")
+        out = traced(f, (x, u, w), self.n, "f(x, u, w)")
         self.function = ca.Function("f", [x, u, w], [out], ["x", "u", "w"], ["x_next"])
         check_evaluates("f", "f(x, u, w)", lambda x, u: self.function(x, u, np.zeros(self.n)), self.n, self.m)
 

@@ -123,3 +123,39 @@ def batch_optimum(A, B, Q, R, M, x, W, cond=False):
     X = c + Gu @ U
     out = (U.reshape(M, m), float(X @ Qb @ X + U @ Rb @ U))
     return (*out, float(np.linalg.cond(K))) if cond else out
+
+
+
+# ---------------------------------------------------------------- the graded assignments, in the background
+# Grading the assignments (tests/test_assignments.py: otter assign, then otter run on three notebooks
+# of each) takes a couple of minutes, mostly waiting on kernels; it starts as soon as the tests are
+# collected, runs beside the rest of the suite (the book build included), and the tests that read
+# its results run last.
+_GRADING = {}
+
+
+def _start_grading():
+    from concurrent.futures import ThreadPoolExecutor
+
+    from tools import assignments
+
+    fixtures = ROOT / "tests" / "fixtures" / "assignments"
+    pool = ThreadPoolExecutor(max_workers=1)
+    _GRADING["future"] = pool.submit(assignments.run_all, BOOK_OUT / "_build" / "assignments",
+                                     extra=lambda n: {"wrong": fixtures / f"{n}_wrong.md"})
+    pool.shutdown(wait=False)
+
+
+def pytest_collection_modifyitems(session, config, items):
+    graded = [it for it in items if "graded" in getattr(it, "fixturenames", ())]
+    if graded:
+        items[:] = [it for it in items if it not in graded] + graded
+        _start_grading()
+
+
+@pytest.fixture(scope="session")
+def graded():
+    """Every assignment built and graded once per session (solution, blank, wrong), by name."""
+    if "future" not in _GRADING:
+        _start_grading()
+    return {r["name"]: r for r in _GRADING["future"].result()}

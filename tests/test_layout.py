@@ -11,26 +11,31 @@ import pytest
 PUBLIC = {
     "orrc.theory": ["horizon_threshold", "above_threshold", "min_decay_rate", "decay_b", "Gamma_V",
                     "Gamma_V_gamma", "lemma2_coefficients", "lemma2_bound", "gamma_c", "theorem1_constant",
-                    "gamma_tilde", "gamma_c_remark"],
+                    "gamma_tilde", "gamma_c_remark", "alpha_f_tilde", "Gamma_V_theta", "lemma4_bound", "lemma5_c",
+                    "lemma5_M_theta", "lemma5_bound", "theorem2_constant", "Theorem2Bound"],
     "orrc.certify": ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
                      "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit",
-                     "Regret", "worst_case_regret"],
+                     "Regret", "worst_case_regret", "Lipschitz", "lq_lipschitz", "lq_value_matrices", "sampled_lipschitz"],
     "orrc.solvers.game": ["GameSolution", "finite_horizon_game", "stationary_game", "optimal_game_level",
                           "check_stabilisable"],
-    "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput",
-                         "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal"],
     "orrc.checks": ["Margins", "Lemma1Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
-                    "theorem1_margin"],
-    "orrc": ["OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning"],
+                    "theorem1_margin", "lemma4_margins", "lemma5_margins", "theorem2_margin"],
+    "orrc.estimation": ["Estimate", "LinearEstimate", "EDMDModel", "RankWarning", "Transitions", "transitions",
+                        "gaussian", "prbs", "multisine", "least_squares_linear", "least_squares_parametric",
+                        "Dictionary", "polynomial_dictionary", "rbf_dictionary", "edmd", "EDMD", "prediction_error"],
+    "orrc": ["OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning",
+             "ParametricSystem", "LinearParametricSystem", "L1Cost", "EstimateThenControl", "LiftedRHC"],
     "orrc.solvers": ["Plan", "SolverWarning", "SolverError"],
     "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput",
-                         "FailureLadder"],
+                         "FailureLadder", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "LiftedRHC",
+                         "EstimateThenControl", "Excitation"],
 }
 
 SECTIONS = {
-    "orrc.theory": ["known"],
-    "orrc.certify": ["constants", "sampled", "attenuation", "regret"],
-    "orrc.checks": ["known"],
+    "orrc.theory": ["known", "unknown"],
+    "orrc.certify": ["constants", "sampled", "attenuation", "regret", "lipschitz"],
+    "orrc.checks": ["known", "unknown"],
+    "orrc.estimation": ["excitation", "data", "linear", "parametric", "edmd"],
 }
 
 

@@ -5,25 +5,70 @@ error or Sphinx warning fails the build (``-n -W --keep-going``). Every page is
 rebuilt and every chapter re-executed on every call (``--all`` with the forced
 execution of ``_config.yml``): Sphinx's incremental build only sees changes to the
 chapter sources, so without it a change in ``orrc/`` would leave stale outputs.
+
+``_config.yml`` executes in MyST-NB's "cache" mode, and the cache (``_build/.jupyter_cache``)
+is emptied here before every build, so every chapter is executed as with "force" and the
+executed notebooks, with their glue outputs, are kept. A build that succeeds leaves a stamp,
+``_build/orrc-build.json``: the digest of every input (:func:`inputs_digest`) and the run size
+(``ORRC_QUICK``). The solution-free edition (``tools/build_student.py``) reuses the cached
+notebooks only when the stamp matches the sources and the size it is asked for.
 """
 from __future__ import annotations
 
+import hashlib
+import json
 import subprocess
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+STAMP = "orrc-build.json"
+CACHE = ".jupyter_cache"  # MyST-NB's default place, beside html/
+INPUTS = ("_config.yml", "_toc.yml", "book/**/*", "orrc/**/*.py")
 
 
-def build(out: Path = ROOT, extra_env: dict | None = None) -> int:
+def inputs_digest(root: Path = ROOT) -> str:
+    """SHA-256 over the path and content of every file the executed chapters depend on: the book's
+    sources and configuration and the package (not tools/, which only renders)."""
+    h = hashlib.sha256()
+    files = sorted({p for pattern in INPUTS for p in Path(root).glob(pattern)
+                    if p.is_file() and "__pycache__" not in p.parts and p.suffix != ".ipynb"})
+    for p in files:
+        h.update(p.relative_to(root).as_posix().encode() + b"\0" + p.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+def is_quick(env: dict) -> bool:
+    return env.get("ORRC_QUICK", "").strip().lower() in ("1", "true", "yes")
+
+
+def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT) -> int:
+    """Build the book in ``source`` into ``out/_build``; return jupyter-book's exit code."""
     import os
+    import shutil
 
     env = dict(os.environ)
     env.setdefault("MPLBACKEND", "Agg")
     env.update(extra_env or {})
-    cmd = [str(Path(sys.executable).parent / "jupyter-book"), "build", str(ROOT), "--path-output", str(out),
+    stamp = Path(out) / "_build" / STAMP
+    stamp.unlink(missing_ok=True)
+    shutil.rmtree(Path(out) / "_build" / CACHE, ignore_errors=True)  # never a stale output
+    digest = inputs_digest(source)
+    cmd = [str(Path(sys.executable).parent / "jupyter-book"), "build", str(source), "--path-output", str(out),
            "--builder", "html", "--all", "-n", "-W", "--keep-going"]
-    return subprocess.call(cmd, cwd=ROOT, env=env)
+    rc = subprocess.call(cmd, cwd=source, env=env)
+    if rc == 0:
+        stamp.write_text(json.dumps({"digest": digest, "quick": is_quick(env)}, indent=1))
+    return rc
+
+
+def read_stamp(out: Path = ROOT) -> dict | None:
+    """The stamp of the last successful build into ``out/_build`` (None when there is none)."""
+    stamp = Path(out) / "_build" / STAMP
+    try:
+        return json.loads(stamp.read_text())
+    except (OSError, ValueError):
+        return None
 
 
 if __name__ == "__main__":

@@ -22,13 +22,19 @@ One module per kind of result:
   worst-case dynamic regret against the clairvoyant optimum over ‖w‖ <= 1, and the disturbance
   attaining it (the top singular pair of the regret operator).
 
+* :mod:`orrc.certify.lipschitz` -- Lemma 3's α_V, α_κ (and Lemma 4's α_c, α_f S): :func:`lq_lipschitz`
+  from exact CasADi derivatives of the LQ value matrix and law, maximised over a grid of the
+  compact set Θ (labelled as such); :func:`sampled_lipschitz`, difference quotients over samples
+  for any problem (estimates).
+
 SciPy is imported inside the functions that use it, so that ``import orrc`` does not load it.
 """
 from .attenuation import Attenuation, worst_case_attenuation, worst_case_attenuation_limit
 from .constants import Constants, alpha_hi_floor, lq_constants, smallest_certified_M
 from .regret import Regret, worst_case_regret
 from .sampled import sampled_constants
+from .lipschitz import Lipschitz, lq_lipschitz, lq_value_matrices, sampled_lipschitz
 
 __all__ = ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
            "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit", "Regret",
-           "worst_case_regret"]
+           "worst_case_regret", "Lipschitz", "lq_lipschitz", "lq_value_matrices", "sampled_lipschitz"]

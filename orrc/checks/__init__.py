@@ -2,13 +2,16 @@
 
 * :mod:`orrc.checks.known` -- the known system (Section 5.1): the class condition on V_M,
   Lemma 1, Lemma 2 and Theorem 1.
+* :mod:`orrc.checks.unknown` -- the unknown system (Section 5.2): Lemma 4, Lemma 5 and Theorem 2 along a
+  trajectory of Algorithm 2.
 
 Each function takes a :class:`~orrc.Trajectory` and the paper's constants and returns the
 margins ``bound - actual`` at every step (:class:`Margins`; >= 0 means the inequality
 holds there). Every public name is importable from ``orrc.checks`` directly.
 """
 from .known import Lemma1Margins, Margins, lemma1_margins, lemma2_margins, theorem1_margin, value_bound_margins
-from . import known
+from .unknown import lemma4_margins, lemma5_margins, theorem2_margin
+from . import known, unknown
 
 __all__ = ["Margins", "Lemma1Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
-           "theorem1_margin"]
+           "theorem1_margin", "lemma4_margins", "lemma5_margins", "theorem2_margin"]

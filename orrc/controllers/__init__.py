@@ -1,5 +1,5 @@
-"""Controllers: Algorithm 1 (PreviewRHC) and the baselines, and the escalation policy on solver failure
-(:mod:`orrc.controllers.failures`, shared by every receding-horizon controller)."""
+"""Controllers: Algorithm 1 (PreviewRHC), Algorithm 2 (EstimateThenControl), the baselines, and the escalation
+policy on solver failure (:mod:`orrc.controllers.failures`, shared by every receding-horizon controller)."""
 from .base import Controller, Decision, Observation
 from .baselines import LQR, Clairvoyant, ZeroInput
 from .failures import FailureLadder
@@ -7,6 +7,8 @@ from .gpc import GPC, DisturbanceAction
 from .hinf import HInfinity
 from .regret_optimal import RegretOptimal
 from .preview import PreviewRHC
+from .lifted import LiftedRHC
+from .estimate import EstimateThenControl, Excitation
 
 __all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "LQR", "Clairvoyant", "ZeroInput", "FailureLadder",
-           "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal"]
+           "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "LiftedRHC", "EstimateThenControl", "Excitation"]

@@ -8,11 +8,12 @@ import casadi as ca
 import numpy as np
 
 from .._validate import OrrcValueError, _describe, as_array, as_int, check_evaluates
-from ..costs import QuadraticCost, StageCost
+from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from ..solvers import lq
 from ..solvers.nlp import ShootingNLP
 from ..solvers.plan import Plan, SolverWarning
+from ..solvers.qp import L1QP
 from .base import Controller, Decision, Observation
 from .failures import DEFAULT_MAX_FAILURES, FailureLadder
 
@@ -61,7 +62,8 @@ class PreviewRHC(Controller):
 
     Solvers: a :class:`~orrc.LinearSystem` with a :class:`~orrc.QuadraticCost` and
     no bounds is solved exactly by the Riccati recursion with disturbance
-    feed-forward (``orrc.solvers.lq``); everything else by CasADi + IPOPT
+    feed-forward (``orrc.solvers.lq``); a LinearSystem with an :class:`~orrc.L1Cost` exactly as
+    one quadratic program (``orrc.solvers.qp``, input bounds allowed); everything else by CasADi + IPOPT
     (``orrc.solvers.nlp``), built once and warm-started from the shifted previous plan.
 
     Parameters
@@ -72,7 +74,7 @@ class PreviewRHC(Controller):
     terminal_cost : extension beyond the paper -- a (n, n) PSD matrix Pf (cost x̃ᵀPf x̃
         on x̃_{t+M}) or a callable in CasADi operations. The paper has none.
     state_bounds : extension beyond the paper -- (lo, hi) box on x̃_{t+1..t+M} (CasADi path).
-    solver : "auto" (default), "lq" or "nlp".
+    solver : "auto" (default), "lq", "qp" or "nlp".
     solver_options : extra options for ``casadi.nlpsol`` (e.g. {"ipopt.max_iter": 100}); the
         exact LQ path has no options and warns that they are ignored.
     max_failures : consecutive failed steps after which :meth:`control` stops with
@@ -83,6 +85,9 @@ class PreviewRHC(Controller):
         certainty-equivalence MPC. On the LQ path the law is exact: the feed-forward columns of
         the unseen disturbances are dropped (u = -Kx - L[:, :kn] vec(w_t..w_{t+k-1})). The
         lemmas and Theorem 1 assume k = M (``orrc.checks`` refuse a trajectory with k < M).
+    theta : for a :class:`~orrc.ParametricSystem` model f(·; θ), the parameter value to plan
+        with (Algorithm 2 plans with its estimate θ̂). It is a parameter of the CasADi NLP:
+        :meth:`set_theta` changes it without rebuilding the solver.
 
     Solver failures (NLP path) follow :mod:`orrc.controllers.failures`: a failed solve is retried
     from a cold start; if that fails too, the step applies the previous successful plan shifted
@@ -101,7 +106,7 @@ class PreviewRHC(Controller):
 
     def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
                  terminal_cost=None, state_bounds=None, solver: str = "auto", solver_options=None,
-                 max_failures: int | None = DEFAULT_MAX_FAILURES, preview_w: int | None = None):
+                 max_failures: int | None = DEFAULT_MAX_FAILURES, preview_w: int | None = None, theta=None):
         if not isinstance(system, System):
             raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
         if not isinstance(cost, StageCost):
@@ -118,8 +123,8 @@ class PreviewRHC(Controller):
             self.name = f"preview RHC, k = {self.preview_w}"
         self.input_bounds = _bounds("input_bounds", input_bounds, system.m)
         self.state_bounds = _bounds("state_bounds", state_bounds, system.n)
-        if not isinstance(solver, str) or solver not in ("auto", "lq", "nlp"):
-            raise OrrcValueError(f"solver must be 'auto', 'lq' or 'nlp'; got {solver!r}")
+        if not isinstance(solver, str) or solver not in ("auto", "lq", "nlp", "qp"):
+            raise OrrcValueError(f"solver must be 'auto', 'lq', 'qp' or 'nlp'; got {solver!r}")
         if solver_options is not None and not isinstance(solver_options, dict):
             raise OrrcValueError(f"solver_options must be a dict; got {type(solver_options).__name__}")
         self._ladder = FailureLadder(self.M, max_failures, name=f"PreviewRHC(M={self.M})")
@@ -140,6 +145,21 @@ class PreviewRHC(Controller):
                 "solver='lq' needs a LinearSystem, a QuadraticCost, no input/state bounds and a "
                 "quadratic (matrix) terminal cost or none; use solver='nlp' or 'auto'")
         self.solver = "lq" if (solver == "lq" or (solver == "auto" and lq_ok)) else "nlp"
+        # an ℓ1 state cost on a linear system: one exact QP per step (orrc.solvers.qp)
+        qp_ok = (isinstance(system, LinearSystem) and isinstance(cost, L1Cost) and self.state_bounds is None
+                 and terminal_cost is None)
+        if solver == "qp" and not qp_ok:
+            raise OrrcValueError("solver='qp' needs a LinearSystem, an L1Cost, no state bounds and no terminal cost")
+        if solver in ("auto", "qp") and qp_ok:
+            self.solver = "qp"
+        self.theta = None
+        if getattr(system, "n_params", 0):  # a ParametricSystem: θ is a parameter of the NLP
+            if theta is None:
+                raise OrrcValueError(f"theta is required for a ParametricSystem model ({system.name}): the "
+                                     f"value of its {system.n_params} parameters to plan with")
+            self.theta = system.check_theta(theta)
+        elif theta is not None:
+            raise OrrcValueError(f"theta is only for a ParametricSystem model; {system.name} has no parameters")
         self._Pf = Pf
         if self.solver == "lq":
             self._nlp = None
@@ -147,6 +167,8 @@ class PreviewRHC(Controller):
                 warnings.warn(f"solver_options {sorted(solver_options)} are ignored: this problem is solved "
                               "exactly on the LQ path (Riccati recursion), which has no options; pass "
                               "solver='nlp' to solve it with CasADi + IPOPT instead", UserWarning, stacklevel=2)
+        elif self.solver == "qp":
+            self._nlp = L1QP(system.A, system.B, cost.q, cost.R, self.M, self.input_bounds)
         else:
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
                                     term_fn, solver_options=solver_options)
@@ -252,13 +274,25 @@ class PreviewRHC(Controller):
 
     def _rungs(self, x, W, P, warm):
         """The ways of solving one M-step problem on the NLP path, in the order the failure ladder
-        tries them: from the warm start (when there is one), then from a cold start."""
+        tries them: from the warm start (when there is one), then from a cold start. (The exact QP of an
+        ℓ1 cost needs no guess: one rung.)"""
+        if self.solver == "qp":
+            return [("exact QP", lambda: self._nlp.solve(x, W))]
         rungs = []
+        kw = {} if self.theta is None else {"theta": self.theta}   # a ParametricSystem's θ̂, an NLP parameter
         if warm is not None:
             gU, gX = warm[0], np.vstack([x, warm[1][1:]])
-            rungs.append(("warm start", lambda: self._nlp.solve(x, W, P, gU, gX)))
-        rungs.append(("cold start", lambda: self._nlp.solve(x, W, P)))
+            rungs.append(("warm start", lambda: self._nlp.solve(x, W, P, gU, gX, **kw)))
+        rungs.append(("cold start", lambda: self._nlp.solve(x, W, P, **kw)))
         return rungs
+
+    def set_theta(self, theta) -> None:
+        """Plan with the model parameters θ from now on (a ParametricSystem model; no solver rebuild).
+        The previous plans were made with another model: the warm start is forgotten."""
+        if self.theta is None:
+            raise OrrcValueError(f"set_theta needs a ParametricSystem model; {self.system.name} has no parameters")
+        self.theta = self.system.check_theta(theta)
+        self._ladder.reset()
 
     # -- the controller -----------------------------------------------------------
     def reset(self) -> None:

@@ -8,6 +8,10 @@ is transcribed once per (system, cost family, M) by multiple shooting into a
 disturbances and cost parameters. Each call is warm-started from the given guess
 (the receding-horizon controller passes its shifted previous plan).
 
+A model with parameters θ (an :class:`orrc.ParametricSystem`, ``n_params > 0``) appends θ to
+the parameter vector, (x, vec W, vec P, θ): Algorithm 2 solves on f(·; θ̂) and a new estimate
+θ̂ is a new parameter value, not a new solver.
+
 The solver only reports: a failed solve returns a :class:`~orrc.solvers.Plan` with
 ``success=False`` and the solver's status, holding the last iterate. What is then applied
 (a cold retry, the shifted previous plan, stopping) is the controller's escalation policy
@@ -52,9 +56,12 @@ class ShootingNLP:
                  state_bounds=None, terminal=None, solver: str = "ipopt", solver_options=None):
         n, m, npar = system.n, system.m, cost.n_params
         self.M, self.n, self.m = M, n, m
+        self.n_theta = int(getattr(system, "n_params", 0) or 0)   # model parameters θ (ParametricSystem)
+        theta = ca.SX.sym("theta", self.n_theta)
+        model = (lambda x, u, w: system.symbolic(x, u, w, theta)) if self.n_theta else system.symbolic
         x1, u1, w1, p1 = ca.SX.sym("x", n), ca.SX.sym("u", m), ca.SX.sym("w", n), ca.SX.sym("p", npar)
-        stage_nodes = ca.Function("stage", [x1, u1, w1, p1],
-                                  [system.symbolic(x1, u1, w1), cost.expr(x1, u1, p1)]).n_nodes()
+        stage_nodes = ca.Function("stage", [x1, u1, w1, p1, theta],
+                                  [model(x1, u1, w1), cost.expr(x1, u1, p1)]).n_nodes()
         per_interval = stage_nodes + 4 * (n + m + npar)
         check_size(f"the CasADi transcription of the M-step problem at the horizon M={M} (n={n}, m={m})",
                    nbytes=M * per_interval * 400.0, ops=M * per_interval * _OPS_PER_NODE,
@@ -69,12 +76,12 @@ class ShootingNLP:
         xj = x0
         for j in range(M):
             J += cost.expr(xj, U[:, j], Pp[:, j])
-            g.append(X[:, j] - system.symbolic(xj, U[:, j], W[:, j]))
+            g.append(X[:, j] - model(xj, U[:, j], W[:, j]))
             xj = X[:, j]
         if terminal is not None:
             J += terminal(xj)
         z = ca.vertcat(ca.vec(U), ca.vec(X))
-        p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp))
+        p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp), theta)
         opts = dict(DEFAULT_IPOPT) if solver == "ipopt" else {}
         opts.update(solver_options or {})
         try:
@@ -93,8 +100,9 @@ class ShootingNLP:
         self.ubz = np.concatenate([np.tile(uhi, M), np.tile(xhi, M)])
         self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
 
-    def solve(self, x, W, P, guess_U=None, guess_X=None) -> Plan:
-        """Solve from state x (n,) with preview W (M, n) and cost parameters P (M, n_params).
+    def solve(self, x, W, P, guess_U=None, guess_X=None, theta=None) -> Plan:
+        """Solve from state x (n,) with preview W (M, n) and cost parameters P (M, n_params);
+        ``theta`` (n_theta,): the model parameters, for a ParametricSystem (else None).
 
         No guess: a cold start (zero inputs clipped to the bounds, the state held at x). On
         failure the plan has ``success=False``, the solver's ``status`` and its last iterate
@@ -113,7 +121,7 @@ class ShootingNLP:
         else:
             guess_next = guess_X[1:]  # guess_X holds x̃_0..x̃_M; the NLP's variables are x̃_1..x̃_M
         z0 = np.concatenate([guess_U.reshape(-1), guess_next.reshape(-1)])
-        p = np.concatenate([x, W.reshape(-1), P.reshape(-1)])
+        p = np.concatenate([x, W.reshape(-1), P.reshape(-1), np.zeros(0) if theta is None else theta])
         t0 = time.perf_counter()
         sol = self.solver(x0=z0, p=p, lbx=self.lbz, ubx=self.ubz, lbg=0.0, ubg=0.0)
         elapsed = time.perf_counter() - t0

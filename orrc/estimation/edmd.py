@@ -1,0 +1,343 @@
+"""EDMD with inputs: a lifted linear model of a nonlinear system (the paper's Koopman approach).
+
+A dictionary ψ(x) ∈ R^K of functions of the state (that contains x itself, so x = C ψ(x) for a
+linear projection C) lifts the data; ridge-regularised least squares then fits
+
+    z_{k+1} ≈ A z_k + B u_k + E w_k,      z_k = ψ(x_k),      x̂_k = C z_k,
+
+the finite-dimensional approximation of the Koopman operator with inputs (Williams et al. 2015;
+Korda and Mezić 2018). The result, :class:`EDMDModel`, is an ordinary :class:`~orrc.LinearSystem`
+on the lifted state (``model.system``): :class:`~orrc.controllers.LiftedRHC` runs Algorithm 1 on it
+(the exact LQ path for a quadratic cost without bounds), and :meth:`EDMDModel.predict` rolls it
+forward from x_0 for given inputs.
+
+* :class:`Dictionary` -- a user dictionary ψ(x) written in CasADi operations (checked to contain x);
+* :func:`polynomial_dictionary`, :func:`rbf_dictionary` -- monomials up to a degree, Gaussian
+  radial basis functions (both with x first);
+* :func:`edmd` -- the fit; :class:`EDMD` -- the same as an estimator object for Algorithm 2;
+* :func:`prediction_error` -- h-step prediction error of any model on fresh data (EDMD's g(N)).
+"""
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import casadi as ca
+import numpy as np
+
+from .._validate import OrrcValueError, as_array, as_float, as_int, check_size
+from ..systems import LinearSystem, NonlinearSystem, System
+from .data import Estimate, full_rank_solve, transitions
+
+__all__ = ["Dictionary", "polynomial_dictionary", "rbf_dictionary", "EDMD", "EDMDModel", "edmd", "prediction_error"]
+
+
+def _check_features(K: int, what: str, terms: int = 1) -> None:
+    """The size guard of a dictionary of K features (each of about ``terms`` CasADi operations): building it
+    and checking that it contains the state costs a (3K x K) probe matrix and its least squares, O(K³)."""
+    check_size(f"{what} (K = {K} features)", nbytes=3.0 * K * K * 8 + 400.0 * K * terms,
+               ops=3.0 * K ** 3 + 30.0 * K * K * terms,
+               hint="lower the degree or the number of centres (the EDMD fit then costs O(N K²) and control on the "
+                    "lifted model O(M³ K³))")
+
+
+class Dictionary:
+    """A dictionary ψ(x) ∈ R^K of functions of the state, written with CasADi operations.
+
+    ``psi(x)`` receives a CasADi column vector of length ``n`` and returns K functions of it.
+    The dictionary must contain the state: x = C ψ(x) for a linear projection C, found exactly
+    when x appears among the features (else by least squares on probe points, to 1e-9 relative).
+    A dictionary without the state raises :class:`~orrc.OrrcValueError`.
+    """
+
+    def __init__(self, psi: Callable, n: int, name: str = "dictionary", labels=None):
+        if not callable(psi):
+            raise OrrcValueError(f"psi must be callable psi(x); got {type(psi).__name__}")
+        self.n = as_int("n", n, minimum=1)
+        self.name = name
+        x = ca.SX.sym("x", self.n)
+        try:
+            out = ca.vec(ca.SX(psi(x)))
+        except Exception as exc:
+            raise OrrcValueError(f"psi(x) must be written with CasADi operations; tracing it failed with: {exc}") from exc
+        self.K = int(out.shape[0])
+        self.function = ca.Function("psi", [x], [out])
+        _check_features(self.K, f"the dictionary {name!r}", terms=max(1, self.function.n_nodes() // max(self.K, 1)))
+        self.labels = [f"psi[{j}]" for j in range(self.K)] if labels is None else [str(s) for s in labels]
+        if len(self.labels) != self.K:
+            raise OrrcValueError(f"labels must name the K = {self.K} features; got {len(self.labels)}")
+        self.C = self._projection()
+
+    def _projection(self) -> np.ndarray:
+        rng = np.random.default_rng(20210)
+        P = rng.uniform(-1.0, 1.0, (max(3 * self.K, 20), self.n))
+        Psi = self(P)
+        if not np.all(np.isfinite(Psi)):
+            raise OrrcValueError(f"the dictionary {self.name!r} is not finite on [-1, 1]^n (probe points)")
+        C = np.zeros((self.n, self.K))
+        for i in range(self.n):  # x_i itself among the features: exact selection
+            hit = np.flatnonzero(np.all(Psi == P[:, [i]], axis=0))
+            if hit.size == 0:
+                break
+            C[i, hit[0]] = 1.0
+        else:
+            return C
+        C, *_ = np.linalg.lstsq(Psi, P, rcond=None)
+        C = C.T
+        err = np.linalg.norm(Psi @ C.T - P) / np.linalg.norm(P)
+        if not err <= 1e-9:
+            raise OrrcValueError(
+                f"the dictionary {self.name!r} must contain the state x (x = C psi(x) for a linear projection C, "
+                f"e.g. put x itself first); the best linear projection misses x by {err:.3g} (relative)")
+        return C
+
+    def __call__(self, X) -> np.ndarray:
+        """ψ at one state (n,) → (K,), or at k states (k, n) → (k, K)."""
+        X = as_array("X", X)
+        single = X.ndim == 1
+        X2 = X[None, :] if single else X
+        if X2.ndim != 2 or X2.shape[1] != self.n:
+            raise OrrcValueError(f"X must have shape (k, {self.n}) or ({self.n},); got shape {X.shape}")
+        out = np.asarray(self.function.map(X2.shape[0])(X2.T)).T
+        return out[0] if single else out
+
+    def __repr__(self):
+        return f"Dictionary({self.name!r}, n={self.n}, K={self.K})"
+
+
+def polynomial_dictionary(n: int, degree: int, include_constant: bool = False) -> Dictionary:
+    """All monomials of x ∈ R^n of total degree 1..``degree`` (x first), and 1 if ``include_constant``.
+
+    K = C(n + degree, degree) - 1 (+1) features; the size is estimated first and refused above ``orrc.config``'s limits.
+    """
+    n = as_int("n", n, minimum=1)
+    degree = as_int("degree", degree, minimum=1)
+    K = math.comb(n + degree, degree) - 1 + bool(include_constant)
+    _check_features(K, f"polynomial_dictionary(n={n}, degree={degree})", terms=degree)
+    combos = [c for d in range(1, degree + 1) for c in itertools.combinations_with_replacement(range(n), d)]
+
+    def label(c):
+        parts = []
+        for i in sorted(set(c)):
+            k = c.count(i)
+            parts.append(f"x{i + 1}" + (f"^{k}" if k > 1 else ""))
+        return " ".join(parts)
+
+    def psi(x):
+        feats = [ca.SX(1.0)] if include_constant else []
+        for c in combos:
+            term = ca.SX(1.0)
+            for i in c:
+                term = term * x[i]
+            feats.append(term)
+        return ca.vertcat(*feats)
+
+    labels = (["1"] if include_constant else []) + [label(c) for c in combos]
+    return Dictionary(psi, n, name=f"polynomials of degree <= {degree}", labels=labels)
+
+
+def rbf_dictionary(centers, width: float, include_constant: bool = False) -> Dictionary:
+    """x, then Gaussian radial basis functions exp(-‖x - c_j‖² / (2 width²)) for each centre c_j.
+
+    ``centers`` (k, n); ``width`` > 0. K = n + k (+1) features; the size is estimated first and refused above ``orrc.config``'s limits.
+    """
+    centers = as_array("centers", centers)
+    if centers.ndim != 2 or centers.shape[0] < 1:
+        raise OrrcValueError(f"centers must have shape (k, n) with k >= 1; got shape {centers.shape}")
+    width = as_float("width", width, minimum=0.0, strict_min=True)
+    k, n = centers.shape
+    _check_features(n + k + bool(include_constant), f"rbf_dictionary with {k} centres", terms=3 * n)
+
+    def psi(x):
+        feats = [x]
+        if include_constant:
+            feats.append(ca.SX(1.0))
+        for c in centers:
+            d = x - ca.DM(c)
+            feats.append(ca.exp(-ca.dot(d, d) / (2.0 * width ** 2)))
+        return ca.vertcat(*feats)
+
+    labels = [f"x{i + 1}" for i in range(n)] + (["1"] if include_constant else []) + [f"rbf{j}" for j in range(k)]
+    return Dictionary(psi, n, name=f"{k} Gaussian RBFs (width {width:g})", labels=labels)
+
+
+@dataclass
+class EDMDModel(Estimate):
+    """The lifted linear model z+ = A z + B u + E w, z = ψ(x), x = C z, fitted by :func:`edmd`.
+
+    ``theta`` is vec([A B E]) row by row; ``rank``/``rank_needed`` those of the regression matrix
+    [ψ(x_k); u_k; w_k]; ``residual`` the RMS one-step residual of x (not of z).
+    """
+
+    A: np.ndarray = None
+    B: np.ndarray = None
+    E: np.ndarray = None
+    C: np.ndarray = None
+    dictionary: Dictionary = None
+    ridge: float = 0.0
+
+    @property
+    def K(self) -> int:
+        return self.A.shape[0]
+
+    @property
+    def system(self) -> LinearSystem:
+        """The lifted model as a :class:`~orrc.LinearSystem` on z (its disturbance input is E w)."""
+        return LinearSystem(self.A, self.B, name=f"EDMD model ({self.dictionary.name})")
+
+    def lift(self, x) -> np.ndarray:
+        """z = ψ(x)."""
+        return self.dictionary(x)
+
+    def predict(self, x0, U, W=None) -> np.ndarray:
+        """x̂_0..x̂_h (h+1, n) from x_0 under inputs U (h, m) and disturbances W (h, n) (None: w = 0)."""
+        n, m = self.dictionary.n, self.B.shape[1]
+        x0 = as_array("x0", x0, (n,))
+        U = as_array("U", U)
+        if U.ndim == 1 and m == 1:
+            U = U[:, None]
+        if U.ndim != 2 or U.shape[1] != m:
+            raise OrrcValueError(f"U must have shape (h, {m}); got shape {U.shape}")
+        if W is not None:
+            W = as_array("W", W, (len(U), n))
+        Z = _lifted_rollout(self, self.lift(x0)[None, :], U[None], None if W is None else W[None])
+        return Z[0] @ self.C.T
+
+    def __repr__(self):
+        return (f"EDMDModel(K={self.K}, N={self.N}, ridge={self.ridge:g}, dictionary={self.dictionary.name!r}, "
+                f"residual={self.residual:.3g})")
+
+
+def _lifted_rollout(model: EDMDModel, Z0, U, W):
+    """Batched z-rollouts: Z0 (S, K), U (S, h, m), W (S, h, n) or None → (S, h+1, K)."""
+    S, h = U.shape[0], U.shape[1]
+    out = np.empty((S, h + 1, Z0.shape[1]))
+    out[:, 0] = Z0
+    z = Z0
+    for k in range(h):
+        z = z @ model.A.T + U[:, k] @ model.B.T
+        if W is not None:
+            z = z + W[:, k] @ model.E.T
+        out[:, k + 1] = z
+    return out
+
+
+def edmd(X, U, dictionary: Dictionary, W=None, ridge: float = 1e-8) -> EDMDModel:
+    """EDMD with inputs: [A B E] = argmin (1/N) Σ_k ‖ψ(x_{k+1}) - A ψ(x_k) - B u_k - E w_k‖² + ridge ‖[A B E]‖_F².
+
+    Parameters
+    ----------
+    X, U, W : the data (see :func:`orrc.estimation.transitions`; lists for several experiments).
+        W None: the model has no disturbance channel (E = 0), w is treated as noise.
+    dictionary : a :class:`Dictionary` (it contains x, so C with x = C ψ(x) is known).
+    ridge : the ridge weight (>= 0), per sample. With ridge = 0 the data must determine [A B E]
+        (rank check as in :func:`~orrc.estimation.least_squares_linear`).
+
+    The ridge problem is solved as one least-squares problem on the stacked matrix
+    [Φ; √(N ridge) I] (no normal equations, so its conditioning is that of Φ, not its square).
+    """
+    if not isinstance(dictionary, Dictionary):
+        raise OrrcValueError(f"dictionary must be an orrc.estimation.Dictionary (e.g. polynomial_dictionary); "
+                             f"got {type(dictionary).__name__}")
+    ridge = as_float("ridge", ridge, minimum=0.0)
+    D = transitions(X, U, W, n=dictionary.n)
+    N, K, m, n = D.N, dictionary.K, D.u.shape[1], dictionary.n
+    cols = K + m + (n if D.w is not None else 0)
+    check_size(f"the EDMD regression with N = {N} transitions and K + m (+ n) = {cols} columns",
+               nbytes=8.0 * (N + cols) * cols * 3, ops=6.0 * (N + cols) * cols * cols,
+               hint="use fewer data or a smaller dictionary")
+    Z0, Z1 = dictionary(D.x), dictionary(D.x_next)
+    if not (np.all(np.isfinite(Z0)) and np.all(np.isfinite(Z1))):
+        raise OrrcValueError("the dictionary is not finite on the data (overflow: scale the states or lower the degree)")
+    Phi = np.hstack([Z0, D.u] + ([D.w] if D.w is not None else []))
+    if ridge > 0:
+        s = np.linalg.svd(Phi, compute_uv=False)
+        rank = int(np.count_nonzero(s > s[0] * max(Phi.shape) * np.finfo(float).eps))
+        aug = np.vstack([Phi, math.sqrt(N * ridge) * np.eye(cols)])
+        Theta, *_ = np.linalg.lstsq(aug, np.vstack([Z1, np.zeros((cols, K))]), rcond=None)
+        sa = np.linalg.svd(aug, compute_uv=False)
+        cond = float(sa[0] / sa[-1])
+    else:
+        Theta, rank, cond = full_rank_solve(Phi, Z1, "edmd", "[psi(x_k); u_k; w_k]")
+    A, B = Theta[:K].T, Theta[K:K + m].T
+    E = Theta[K + m:].T if D.w is not None else np.zeros((K, n))
+    C = dictionary.C
+    x_res = float(np.sqrt(np.sum((D.x_next - (Phi @ Theta) @ C.T) ** 2) / N))
+    return EDMDModel(theta=Theta.T.ravel(), N=N, rank=rank, rank_needed=cols, residual=x_res, condition=cond,
+                     used_w=D.w is not None, method=f"EDMD with inputs, {dictionary.name}, ridge {ridge:g}",
+                     A=A, B=B, E=E, C=C, dictionary=dictionary, ridge=ridge)
+
+
+class EDMD:
+    """EDMD as the estimator of Algorithm 2: ``EDMD(dictionary, ridge).fit(X, U, W)`` = :func:`edmd`."""
+
+    def __init__(self, dictionary: Dictionary, ridge: float = 1e-8):
+        if not isinstance(dictionary, Dictionary):
+            raise OrrcValueError(f"dictionary must be an orrc.estimation.Dictionary; got {type(dictionary).__name__}")
+        self.dictionary = dictionary
+        self.ridge = as_float("ridge", ridge, minimum=0.0)
+        self.n = dictionary.n
+
+    def fit(self, X, U, W=None) -> EDMDModel:
+        return edmd(X, U, self.dictionary, W=W, ridge=self.ridge)
+
+    def __repr__(self):
+        return f"EDMD({self.dictionary!r}, ridge={self.ridge:g})"
+
+
+def _rollouts(model, X0, U, W):
+    """Batched rollouts of any model: (S, h+1, n) states from X0 (S, n), U (S, h, m), W (S, h, n) or None."""
+    S, h = U.shape[:2]
+    n = X0.shape[1]
+    if isinstance(model, EDMDModel):
+        return _lifted_rollout(model, model.lift(X0), U, W) @ model.C.T
+    if isinstance(model, Estimate) and hasattr(model, "system"):
+        model = model.system
+    if not isinstance(model, System):
+        raise OrrcValueError(f"model must be an EDMDModel, an estimate with .system, or an orrc System; got "
+                             f"{type(model).__name__}")
+    out = np.empty((S, h + 1, n))
+    out[:, 0] = X0
+    x = X0
+    Wz = np.zeros((S, h, n)) if W is None else W
+    F = model.function.map(S) if isinstance(model, NonlinearSystem) else None
+    for k in range(h):
+        if F is None:
+            x = x @ model.A.T + U[:, k] @ model.B.T + Wz[:, k]
+        else:
+            x = np.asarray(F(x.T, U[:, k].T, Wz[:, k].T)).T
+        out[:, k + 1] = x
+    return out
+
+
+def prediction_error(model, X, U, W=None, horizon: int = 20) -> float:
+    """RMS over all start times k of ‖x̂_{k+h} - x_{k+h}‖: the h-step prediction error on data.
+
+    ``model``: an :class:`EDMDModel`, an estimate with ``.system``, or any orrc System (e.g. the
+    linearisation ``orrc.LinearSystem(*f.linearize())``). Each prediction starts from the true
+    x_k and uses the recorded inputs u_k..u_{k+h-1} (and disturbances, when W is given; else
+    w = 0). Data: one trajectory (N+1, n) with U (N, m), or lists of them. On fresh data (not
+    used for fitting) this is the generalisation error, EDMD's counterpart of g(N).
+    """
+    horizon = as_int("horizon", horizon, minimum=1)
+    Xs = X if isinstance(X, (list, tuple)) else [X]
+    Us = U if isinstance(U, (list, tuple)) else [U]
+    Ws = [None] * len(Xs) if W is None else (W if isinstance(W, (list, tuple)) else [W])
+    sq, count = 0.0, 0
+    for x, u, w in zip(Xs, Us, Ws):
+        D = transitions(x, u, w)
+        N = D.N
+        if N < horizon:
+            continue
+        xs = np.vstack([D.x, D.x_next[-1:]])
+        starts = np.arange(N - horizon + 1)
+        idx = starts[:, None] + np.arange(horizon)[None, :]
+        pred = _rollouts(model, xs[starts], D.u[idx], None if D.w is None else D.w[idx])
+        err = pred[:, -1] - xs[starts + horizon]
+        sq += float(np.sum(err * err))
+        count += len(starts)
+    if count == 0:
+        raise OrrcValueError(f"no trajectory is long enough for a {horizon}-step prediction (each needs N >= horizon)")
+    return math.sqrt(sq / count)

@@ -1,0 +1,189 @@
+"""The unknown-system theory of the paper (Section 5.2: Lemma 4, Lemma 5, Theorem 2) as pure functions.
+
+The constants, beyond those of Section 5.1 (:mod:`orrc.theory.known`):
+
+* ``alpha_V``, ``alpha_kappa`` (Lemma 3): |V_M(·; θ̂) - V_M(·; θ)| <= α_V ‖θ̂ - θ‖ and
+  ‖κ_M(·; θ̂) - κ_M(·; θ)‖ <= α_κ ‖θ̂ - θ‖ (:mod:`orrc.certify.lipschitz` computes them);
+* ``alpha_c``: the cost's Lipschitz constant (Assumption 2);
+* ``alpha_f_S``: the Lipschitz constant α_f S of f in (x, u) over Θ (Assumption (v)-(vi):
+  ‖f(x', u') - f(x, u)‖ <= α_f ‖θ‖ (‖x' - x‖ + ‖u' - u‖), ‖θ‖ <= S);
+* ``theta_error``: ‖θ̂ - θ‖ (at most g(N) after N exciting steps).
+
+Functions (the statement of the paper they implement):
+
+* :func:`alpha_f_tilde` -- α̃_f = max_{0<=k<=M-2} (α_f S)^{k+1} (Lemma 4);
+* :func:`Gamma_V_theta`, :func:`lemma4_bound` -- Γ^θ_V and the right-hand side of Lemma 4;
+* :func:`lemma5_c`, :func:`lemma5_M_theta`, :func:`lemma5_bound` -- c, M_θ and the right-hand side of
+  Lemma 5 (M_θ in the appendix's form c(1 - a^H)/(1 - a) + a^H α_V; the statement's
+  "c(1 - a^H)(1 - a)" is a typo, and the statement's c lacks the α_κ of the appendix);
+* :func:`theorem2_constant` -- the bound of Theorem 2 made explicit, with its three parts.
+
+Indices are 0-based as in the rest of ``orrc``. Bad input raises :class:`~orrc.OrrcValueError`.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .._validate import OrrcValueError, as_float, as_int
+from . import known
+
+__all__ = ["alpha_f_tilde", "Gamma_V_theta", "lemma4_bound", "lemma5_c", "lemma5_M_theta", "lemma5_bound",
+           "theorem2_constant", "Theorem2Bound"]
+
+
+def _nonneg(name, value) -> float:
+    return as_float(name, value, minimum=0.0)
+
+
+def _lipschitz_constants(alpha_V, alpha_kappa, alpha_c, alpha_tilde_f):
+    return (_nonneg("alpha_V", alpha_V), _nonneg("alpha_kappa", alpha_kappa), _nonneg("alpha_c", alpha_c),
+            _nonneg("alpha_tilde_f", alpha_tilde_f))
+
+
+def alpha_f_tilde(alpha_f_S, M) -> float:
+    """α̃_f = max_{0<=k<=M-2} (α_f S)^{k+1}  (Lemma 4; Appendix F): max(α_f S, (α_f S)^{M-1}).
+
+    It bounds how a one-step deviation of the state grows along the M - 1 remaining steps of a plan.
+    Needs M >= 2 (Lemma 4 is stated for M >= 2).
+    """
+    L = _nonneg("alpha_f_S", alpha_f_S)
+    M = as_int("M", M, minimum=2)
+    return max(L, L ** (M - 1))
+
+
+def Gamma_V_theta(M, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f) -> float:
+    """Γ^θ_V = 2 α_V + α_c α̃_f α_κ (M-1) (ᾱ/(α_lo (M-1)) + 1)  (Lemma 4; Appendix F, last display).
+
+    The coefficient of ‖θ̂ - θ‖ in the increment bound of Lemma 4: 2α_V for moving between V(·; θ̂) and
+    V(·; θ) at t and t+1, and the second term for the state the wrong input κ(x; θ̂) actually reaches.
+    """
+    M = as_int("M", M, minimum=2)
+    alpha_lo, alpha_hi = known._alphas(alpha_lo, alpha_hi)
+    aV, ak, ac, af = _lipschitz_constants(alpha_V, alpha_kappa, alpha_c, alpha_tilde_f)
+    return 2.0 * aV + ac * af * ak * (M - 1) * (alpha_hi / (alpha_lo * (M - 1)) + 1.0)
+
+
+def lemma4_bound(sigma_t, w_energy, theta_error, M, alpha_lo, alpha_hi, gamma_bar, alpha_V, alpha_kappa, alpha_c,
+                 alpha_tilde_f) -> float:
+    """The right-hand side of Lemma 4 at one step:
+
+        V^{t+1}_M(·; θ̂) - V^t_M(·; θ̂) <= Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖² + Γ^θ_V ‖θ̂ - θ‖
+
+    (Γ_V, Γ^γ_V of Lemma 1, :func:`orrc.theory.Gamma_V`). ``w_energy`` is the previewed energy
+    Σ_{k=t}^{t+M-1} ‖w_k‖²; ``theta_error`` = ‖θ̂ - θ‖.
+    """
+    sigma_t = _nonneg("sigma_t", sigma_t)
+    w_energy = _nonneg("w_energy", w_energy)
+    err = _nonneg("theta_error", theta_error)
+    GV = known.Gamma_V(M, alpha_lo, alpha_hi)
+    GVg = known.Gamma_V_gamma(M, alpha_lo, alpha_hi, gamma_bar)
+    GVt = Gamma_V_theta(M, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f)
+    return float(GV * sigma_t + GVg * w_energy + GVt * err)
+
+
+def _eps_tilde(eps_tilde, M, a, alpha_lo, alpha_hi) -> float:
+    """ε̃ of Lemma 5: default ᾱ(1 - a) (then a = 1 - ε̃/ᾱ, the proof's choice); else within
+    [ᾱ(1 - a), α_lo - ᾱ²/((M-1)α_lo)]."""
+    lo = alpha_hi * (1.0 - a)
+    hi = alpha_lo - alpha_hi ** 2 / ((M - 1) * alpha_lo)
+    if eps_tilde is None:
+        return lo
+    e = as_float("eps_tilde", eps_tilde)
+    if not (lo * (1 - 1e-12) <= e <= hi * (1 + 1e-12)):
+        raise OrrcValueError(f"eps_tilde must lie in [alpha_hi (1 - a), alpha_lo - alpha_hi²/((M-1) alpha_lo)] = "
+                             f"[{lo:.6g}, {hi:.6g}] (Lemma 5: a >= 1 - eps_tilde/alpha_hi); got {e}")
+    return e
+
+
+def lemma5_c(M, a, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde=None) -> float:
+    """c = α_V (2 + ε̃/ᾱ) + α_c α̃_f α_κ (M-1) ((α_lo - ε̃)/ᾱ + 1)  (Lemma 5; Appendix G).
+
+    The θ-term of the recursion V^{t+1}_M <= a V^t_M + b Σ_{k=t}^{t+M-1} ‖w_k‖² + c ‖θ̂ - θ‖. The
+    appendix's c carries α_κ (the statement omits it: a typo, the proof needs it). ``eps_tilde`` (ε̃)
+    defaults to ᾱ(1 - a), which makes a = 1 - ε̃/ᾱ exactly; M above the threshold, a admissible.
+    """
+    M, a, alpha_lo, alpha_hi, _ = known._lemma2_setting(M, a, alpha_lo, alpha_hi, 1.0)
+    aV, ak, ac, af = _lipschitz_constants(alpha_V, alpha_kappa, alpha_c, alpha_tilde_f)
+    e = _eps_tilde(eps_tilde, M, a, alpha_lo, alpha_hi)
+    return aV * (2.0 + e / alpha_hi) + ac * af * ak * (M - 1) * ((alpha_lo - e) / alpha_hi + 1.0)
+
+
+def lemma5_M_theta(H, a, c, alpha_V) -> float:
+    """M_θ = c (1 - a^H)/(1 - a) + a^H α_V  (Lemma 5, in the appendix's form; the statement's
+    "c(1 - a^H)(1 - a)" is a typo): the coefficient of ‖θ̂ - θ‖ in the cost bound at t + H."""
+    H = as_int("H", H, minimum=0)
+    a = as_float("a", a, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
+    c = _nonneg("c", c)
+    aV = _nonneg("alpha_V", alpha_V)
+    return c * (1.0 - a ** H) / (1.0 - a) + a ** H * aV
+
+
+def lemma5_bound(sigma_t, w_window, theta_error, M, H, a, alpha_lo, alpha_hi, gamma_bar, alpha_V, alpha_kappa,
+                 alpha_c, alpha_tilde_f, eps_tilde=None) -> float:
+    """The right-hand side of Lemma 5: Lemma 2's bound (:func:`orrc.theory.lemma2_bound`) + M_θ ‖θ̂ - θ‖,
+
+        c_{t+H} <= ᾱ a^H σ(x_t) + Σ_{j=t}^{t_H+M-2} M_{w,j} ‖w_j‖² + M_θ ‖θ̂ - θ‖.
+    """
+    base = known.lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar)
+    c = lemma5_c(M, a, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde)
+    return float(base + lemma5_M_theta(H, a, c, alpha_V) * _nonneg("theta_error", theta_error))
+
+
+class Theorem2Bound(NamedTuple):
+    """The bound of Theorem 2 in its three parts (their sum is ``total``; arrays for several T).
+
+    estimation : Σ_{t<N} (c_t - γ‖w_t‖²), the estimation phase (the O(N));
+    known : Theorem 1's explicit constant for the control phase from x_N (the O(1));
+    model_error : Σ_{H=0}^{T-N-1} M_θ(H) ‖θ̂ - θ‖ (the O((T - N + 1) g(N))).
+    """
+
+    estimation: float | np.ndarray
+    known: float | np.ndarray
+    model_error: float | np.ndarray
+
+    @property
+    def total(self):
+        return self.estimation + self.known + self.model_error
+
+
+def theorem2_constant(estimation_costs, w, sigma_N, theta_error, T, N, M, a, alpha_lo, alpha_hi, gamma_bar, gamma,
+                      alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde=None) -> Theorem2Bound:
+    """The bound of Theorem 2 made explicit: R^p_T(γ) <= estimation + known + model_error, for γ >= γ_c.
+
+    * estimation = Σ_{t<N} (c_t - γ‖w_t‖²) with the measured costs of the estimation phase (the paper
+      bounds it by O(N) through BIBO stability; here it is the exact sum);
+    * known = :func:`orrc.theory.theorem1_constant` for the T - N steps of the control phase, started at
+      x_N (σ(x_N) = ``sigma_N``) with the disturbances w_N, w_{N+1}, ...;
+    * model_error = ‖θ̂ - θ‖ Σ_{H=0}^{T-N-1} M_θ(H): every stage cost of the control phase is bounded by
+      Lemma 5 (for H < M by the same recursion, which gives the same M_θ(H)), so the θ-terms add up.
+      Σ_H M_θ(H) <= (T - N) c/(1 - a) + α_V/(1 - a): the O((T - N + 1) g(N)) of the theorem.
+
+    ``estimation_costs`` (N,) c_0..c_{N-1}; ``w`` (L, n) all the disturbances w_0, w_1, ... with the
+    preview tail (L >= T + M - 2); ``T`` > N, an integer or a 1-D array of horizons (then every part is
+    an array, one entry per horizon: the bound for all T at once).
+    """
+    Ts = np.atleast_1d(np.asarray(T))
+    if Ts.ndim != 1 or Ts.size == 0 or not np.issubdtype(Ts.dtype, np.integer):
+        raise OrrcValueError(f"T must be an integer or a 1-D array of integers; got {T!r}")
+    N = as_int("N", N, minimum=1)
+    if Ts.min() <= N:
+        raise OrrcValueError(f"Theorem 2 needs a control phase: N < T; got N={N}, T={int(Ts.min())}")
+    T_max = int(Ts.max())
+    ce = np.asarray(estimation_costs, dtype=float)
+    if ce.shape != (N,) or not np.all(np.isfinite(ce)):
+        raise OrrcValueError(f"estimation_costs must be N = {N} finite stage costs c_0..c_(N-1); got shape {ce.shape}")
+    e = known._energies("w", w)
+    if len(e) < max(T_max + M - 2, N + M):
+        raise OrrcValueError(f"w must hold the disturbances w_0..w_(T+M-3) (with the preview tail); got {len(e)} rows")
+    s = known._theorem1_setting(sigma_N, T_max - N, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
+    est = float(ce.sum() - s.gamma * e[:N].sum())
+    kn = known._theorem1_constants(s, e[N:], Ts - N)
+    c = lemma5_c(s.M, s.a, s.alpha_lo, s.alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde)
+    Hs = np.arange(T_max - N)
+    Mt = np.cumsum(c * (1.0 - s.a ** Hs) / (1.0 - s.a) + s.a ** Hs * float(alpha_V))[Ts - N - 1]
+    model = Mt * _nonneg("theta_error", theta_error)
+    if np.ndim(T) == 0:
+        return Theorem2Bound(est, float(kn[0]), float(model[0]))
+    return Theorem2Bound(np.full(Ts.size, est), kn, model)

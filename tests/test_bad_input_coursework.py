@@ -1,0 +1,102 @@
+"""The coursework tools fail loudly on input outside their formats.
+
+The solution-free edition strips solutions by the format reader (tools/solutions.py), so a
+solution it misread would leak: each malformed chapter below is refused with a FormatError
+naming the line and the problem. The assignment reader (tools.assignments.read_assignment,
+behind the instructor's guide) refuses a source without its metadata, a question without
+tests, and a test message that would break the test file otter assign writes.
+"""
+import tempfile
+from pathlib import Path
+
+import pytest
+
+from bad_input import assert_bad_input, case, params
+from tools.assignments import read_assignment
+from tools.solutions import FormatError, parse, strip_solutions
+
+EX = "```{exercise}\n:label: ex-a\n\nDo it.\n```\n"
+EX_B = "```{exercise}\n:label: ex-b\n\nAnd this.\n```\n"
+GATED = ("```{solution-start} ex-a\n:class: dropdown\n```\nThe answer is {glue:text}`ex-a-x`.\n"
+         "```{code-cell} ipython3\nx = 6 * 7\n```\n```{solution-end}\n```\n")
+PLAIN = "````{solution} ex-b\n:class: dropdown\n\nBecause 42 is 6 times 7.\n````\n"
+
+HEADER = "---\nkernelspec:\n  display_name: Python 3\n  language: python\n  name: python3\n{meta}---\n\n"
+META = "orrc_assignment:\n  chapters: [book/problem]\n  minutes: 30\n"
+TEST = ('```{{code-cell}} ipython3\n""" # BEGIN TEST CONFIG\npoints: 1\nfailure_message: {msg}\n""" # END TEST CONFIG\n'
+        "def test_it(x):\n    assert x\n```\n")
+QUESTION = ("```{{raw-cell}}\n# BEGIN QUESTION\nname: q1\n```\n\n```{{raw-cell}}\n# BEGIN TESTS\n```\n\n{tests}\n"
+            "```{{raw-cell}}\n# END TESTS\n```\n\n```{{raw-cell}}\n# END QUESTION\n```\n")
+
+
+def _assignment(text: str) -> Path:
+    folder = Path(tempfile.mkdtemp(prefix="orrc-assign-"))
+    path = folder / "a0_test.md"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+ASSIGNMENT_CASES = [
+    case("assignment-no-metadata", lambda: read_assignment(_assignment(HEADER.format(meta="") + "# A0\n")),
+         "orrc_assignment", "chapters", "minutes", exc=ValueError),
+    case("assignment-question-without-tests", lambda: read_assignment(_assignment(
+        HEADER.format(meta=META) + QUESTION.format(tests=""))), "q1", "no tests", exc=ValueError),
+    case("assignment-quote-in-message", lambda: read_assignment(_assignment(
+        HEADER.format(meta=META) + QUESTION.format(tests=TEST.format(msg='keys "a" and "b"')))),
+         "test_it", "double quote", exc=ValueError),
+    case("assignment-test-without-message", lambda: read_assignment(_assignment(
+        HEADER.format(meta=META) + QUESTION.format(tests=TEST.format(msg="m").replace("failure_message: m\n", "")))),
+         "test_it", "failure_message", exc=ValueError),
+]
+
+F = {"exc": FormatError}  # a ValueError: the format reader refuses, naming the line or the label
+CASES = [
+    case("unclosed-fence", lambda: parse(EX + "````{solution} ex-a\n:class: dropdown\nno end\n"),
+         "never closed", ":6", **F),
+    case("start-without-end", lambda: parse(EX + "```{solution-start} ex-a\n:class: dropdown\n```\ntext\n"),
+         "ex-a", "no solution-end", **F),
+    case("end-without-start", lambda: parse(EX + "```{solution-end}\n```\n"),
+         "solution-end without a solution-start", **F),
+    case("nested-start", lambda: parse(EX + EX_B + GATED.replace("```{solution-end}\n```\n", "")
+                                       + GATED.replace("ex-a", "ex-b")),
+         "inside the solution of 'ex-a'", **F),
+    case("unknown-label", lambda: parse(EX + PLAIN), "'ex-b'", "no exercise has", **F),
+    case("two-solutions", lambda: parse(EX + GATED + GATED), "second solution", "ex-a", **F),
+    case("no-dropdown", lambda: parse(EX + "```{solution} ex-a\n\nText.\n```\n"), ":class: dropdown", "ex-a", **F),
+    case("no-label", lambda: parse("```{exercise}\n\nDo it.\n```\n"), "without a :label:", **F),
+    case("no-argument", lambda: parse(EX + "```{solution}\n:class: dropdown\n\nText.\n```\n"),
+         "needs the exercise's label", **F),
+    case("content-in-start", lambda: parse(EX + "```{solution-start} ex-a\n:class: dropdown\nhidden text\n```\n"
+                                                "```{solution-end}\n```\n"), "takes no content", **F),
+    case("duplicate-exercise", lambda: parse(EX + EX), "two exercises", "ex-a", **F),
+    case("strip-unclosed", lambda: strip_solutions(EX + "```{solution-start} ex-a\n:class: dropdown\n```\n", "ch.md"),
+         "ch.md", "no solution-end", **F),
+]
+
+
+@pytest.mark.parametrize("call, exc, words", params(CASES + ASSIGNMENT_CASES))
+def test_malformed_solutions_and_assignments_are_refused(call, exc, words):
+    assert issubclass(exc, ValueError)
+    assert_bad_input(call, exc, words)
+
+
+def test_strip_removes_both_forms_and_keeps_the_rest():
+    text = "# Title\n\n" + EX + EX_B + GATED + "Between.\n\n" + PLAIN + "After.\n"
+    ch = parse(text)
+    assert [s.kind for s in ch.solutions] == ["gated", "plain"]
+    assert ch.solution_for("ex-a").code == ["x = 6 * 7"]
+    assert ch.solution_for("ex-a").prose == ["The answer is {glue:text}`ex-a-x`."]
+    out = strip_solutions(text)
+    for gone in ("solution", "6 * 7", "The answer is", "Because 42"):
+        assert gone not in out
+    for kept in ("# Title", "Do it.", "And this.", "Between.", "After.", ":label: ex-b"):
+        assert kept in out
+    assert parse(out).solutions == [] and len(parse(out).exercises) == 2
+
+
+def test_a_shorter_inner_fence_does_not_close_the_solution():
+    text = EX + "````{solution} ex-a\n:class: dropdown\n\n```python\nprint(1)\n```\nStill the solution.\n````\nOut.\n"
+    sol = parse(text).solution_for("ex-a")
+    assert sol.code_in_prose == ["print(1)"]
+    assert "Still the solution." in sol.prose
+    assert strip_solutions(text).endswith("```\nOut.\n") and "Still" not in strip_solutions(text)

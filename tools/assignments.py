@@ -1,0 +1,282 @@
+"""Build and grade the graded assignments (``make assignments``).
+
+Each assignment is one source notebook, ``assignments/NAME/NAME.md`` (jupytext MyST), holding the
+questions, their solutions and their tests in otter-grader 7's assign format (raw cells
+``# BEGIN QUESTION`` ... ``# END QUESTION``, ``# BEGIN SOLUTION`` markers, exception-based tests in
+``# BEGIN TESTS`` blocks, hidden ones with ``hidden: true``). Its front matter says which chapters
+it needs and how long a student takes (``orrc_assignment: {chapters: [...], minutes: N}``).
+
+For every assignment, :func:`build` converts the source to ``.ipynb`` (jupytext; otter assign
+reads notebooks) and runs ``otter assign`` into ``_build/assignments/NAME/``: ``student/NAME.ipynb``
+(solutions and hidden tests removed: what students get) and ``autograder/`` (the solution notebook
+and the autograder zip). :func:`grade` grades a notebook with ``otter run`` (locally, no
+container; the kernel is this environment's, with ``orrc`` installed). :func:`main` grades each
+solution notebook and each untouched student notebook and prints one line per assignment,
+
+    NAME: solution P/P points, blank Q/P points
+
+and exits non-zero when a solution gets less than full marks or a blank notebook gets full marks.
+"""
+from __future__ import annotations
+
+import argparse
+import ast
+import json
+import re
+import shutil
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+SOURCES = ROOT / "assignments"
+OUT = ROOT / "_build" / "assignments"
+_CONFIG_DOC = re.compile(r'^\s*(?:[\w.]+\s*=\s*)?"""\s*#\s*BEGIN\s+TEST\s+CONFIG(?P<yaml>.*?)"""\s*#\s*END\s+TEST\s+CONFIG',
+                         re.S | re.I)
+
+
+def names(root: Path = SOURCES) -> list[str]:
+    """The assignments: every folder of ``assignments/`` holding a source notebook of its own name."""
+    return sorted(p.name for p in Path(root).iterdir() if p.is_dir() and (p / f"{p.name}.md").is_file())
+
+
+def _raw_header(cell) -> tuple[str, dict]:
+    """(``BEGIN QUESTION`` etc., its YAML) for an otter boundary raw cell, else ("", {})."""
+    if cell.cell_type != "raw":
+        return "", {}
+    first, _, rest = cell.source.strip().partition("\n")
+    m = re.match(r"#\s+((?:begin|end)\s+\w+|assignment\s+config)\s*$", first.strip(), re.I)
+    if not m:
+        return "", {}
+    return " ".join(m.group(1).upper().split()), (yaml.safe_load(rest) or {})
+
+
+def read_assignment(path: Path) -> dict:
+    """What an assignment source says about itself: title, chapters (pages of the book; an entry
+    ``Title <page>`` names a page not yet written), minutes, questions and tests.
+
+    Each test: its function name, points, whether it is hidden, and ``checks``, the message it
+    shows when it fails (its ``failure_message``). Raises ValueError on a question without tests,
+    a test without points or a failure message, or metadata missing from the front matter.
+    """
+    import jupytext
+
+    nb = jupytext.read(path, fmt="md:myst")
+    meta = nb.metadata.get("orrc_assignment")
+    if not isinstance(meta, dict) or not meta.get("chapters") or not meta.get("minutes"):
+        raise ValueError(f"{path}: the front matter needs orrc_assignment: {{chapters: [...], minutes: N}}")
+    title = next((re.sub(r"^#\s+", "", c.source.strip().split("\n")[0]) for c in nb.cells
+                  if c.cell_type == "markdown" and c.source.lstrip().startswith("# ")), path.stem)
+    questions, q, in_tests = [], None, False
+    for cell in nb.cells:
+        head, conf = _raw_header(cell)
+        if head == "BEGIN QUESTION":
+            q = {"name": conf["name"], "tests": []}
+            questions.append(q)
+        elif head == "BEGIN TESTS":
+            in_tests = True
+        elif head == "END TESTS":
+            in_tests = False
+        elif head == "END QUESTION":
+            q = None
+        elif in_tests and q is not None and cell.cell_type == "code":
+            m = _CONFIG_DOC.match(cell.source)
+            conf = yaml.safe_load(m.group("yaml")) if m else {}
+            fn = next(n.name for n in ast.parse(cell.source).body if isinstance(n, ast.FunctionDef))
+            if not conf.get("points") or not conf.get("failure_message"):
+                raise ValueError(f"{path}: test {fn} of {q['name']} needs points and a failure_message")
+            if '"' in str(conf["failure_message"]) or "\\" in str(conf["failure_message"]):
+                raise ValueError(f"{path}: the failure_message of {fn} holds a double quote or a backslash, "
+                                 "which break the test file otter assign writes")
+            q["tests"].append({"name": fn, "points": float(conf["points"]), "hidden": bool(conf.get("hidden")),
+                               "checks": str(conf["failure_message"])})
+    for q in questions:
+        if not q["tests"]:
+            raise ValueError(f"{path}: question {q['name']} has no tests")
+    chapters, titles = [], {}
+    for entry in meta["chapters"]:  # a page of the book, or "Title <page>" for one not written yet
+        m = re.fullmatch(r"\s*(?:(.*?)\s*<([^<>]+)>|([^<>]+?))\s*", str(entry))
+        page = (m.group(2) or m.group(3)).strip()
+        chapters.append(page)
+        titles[page] = (m.group(1) or "").strip()
+    return {"name": path.stem, "title": title, "chapters": chapters, "chapter_titles": titles,
+            "minutes": int(meta["minutes"]),
+            "questions": questions, "points": sum(t["points"] for q in questions for t in q["tests"])}
+
+
+def _bin(tool: str) -> str:
+    return str(Path(sys.executable).parent / tool)
+
+
+def to_ipynb(md: Path, dest: Path) -> Path:
+    """Convert a jupytext MyST notebook to ``.ipynb`` (no outputs)."""
+    import jupytext
+
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    nb = jupytext.read(md, fmt="md:myst")
+    nb.metadata.pop("jupytext", None)
+    jupytext.write(nb, dest, fmt="ipynb")
+    return dest
+
+
+def _solution_text(master: Path) -> list[str]:
+    """The solution lines of a master notebook (inside in-cell BEGIN/END SOLUTION markers, or ending
+    in ``# SOLUTION``, whose right-hand side otter replaces) and the names of its hidden tests."""
+    import nbformat
+
+    found, inside = [], False
+    for cell in nbformat.read(master, as_version=4).cells:
+        if cell.cell_type != "code":
+            continue
+        m = _CONFIG_DOC.match(cell.source)
+        if m and (yaml.safe_load(m.group("yaml")) or {}).get("hidden"):
+            found += [f"def {n.name}(" for n in ast.parse(cell.source).body if isinstance(n, ast.FunctionDef)]
+            continue
+        for ln in cell.source.split("\n"):
+            text = ln.strip()
+            if re.match(r"#\s*BEGIN\s+SOLUTION", text, re.I):
+                inside = True
+            elif re.match(r"#\s*END\s+SOLUTION", text, re.I):
+                inside = False
+            elif re.search(r"#\s*SOLUTION\s*$", text):
+                rhs = re.sub(r"#\s*SOLUTION\s*$", "", text).partition("=")[2].strip() or text
+                found.append(rhs)
+            elif inside and len(text) >= 8 and not text.startswith("#"):
+                found.append(text)
+    return found
+
+
+def leaked_solutions(master: Path, student: Path) -> list[str]:
+    """Solution lines or hidden-test names of ``master`` that are still in the ``student`` notebook."""
+    import nbformat
+
+    nb = nbformat.read(student, as_version=4)  # its code cells and its metadata (the public tests)
+    text = "\n".join(c.source for c in nb.cells if c.cell_type == "code") + json.dumps(nb.metadata)
+    return [ln for ln in _solution_text(master) if ln in text]
+
+
+def build(name: str, out: Path = OUT, root: Path = SOURCES) -> dict:
+    """``otter assign`` one assignment into ``out/NAME``: paths of the student and solution notebooks
+    and of the autograder zip."""
+    dest = Path(out) / name
+    if dest.exists():
+        shutil.rmtree(dest)
+    master = to_ipynb(Path(root) / name / f"{name}.md", dest / "master" / f"{name}.ipynb")
+    proc = subprocess.run([_bin("otter"), "assign", str(master), str(dest / "dist")], capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise RuntimeError(f"otter assign failed for {name}:\n{proc.stdout}\n{proc.stderr}")
+    zips = sorted((dest / "dist" / "autograder").glob(f"{name}-autograder_*.zip"))
+    if len(zips) != 1:
+        raise RuntimeError(f"otter assign wrote {len(zips)} autograder zips for {name}")
+    leaks = leaked_solutions(master, dest / "dist" / "student" / f"{name}.ipynb")
+    if leaks:
+        raise RuntimeError(f"{name}: the student notebook still holds solution or hidden-test text "
+                           f"(a solution cell outside a BEGIN/END SOLUTION block?): {leaks[:3]}")
+    shutil.rmtree(dest / "master")  # the master holds the hidden tests and solutions: keep only otter's output
+    return {"student": dest / "dist" / "student" / f"{name}.ipynb",
+            "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0]}
+
+
+def grade(notebook: Path, autograder: Path, workdir: Path) -> dict:
+    """Grade one notebook with ``otter run`` (local, no container): {"score", "points", "questions"}.
+
+    ``questions`` maps each question to (score, max score) and its output (which test failed, why).
+    """
+    if workdir.exists():
+        shutil.rmtree(workdir)
+    workdir.mkdir(parents=True)
+    proc = subprocess.run([_bin("otter"), "run", "-a", str(autograder), "-o", str(workdir), "--no-logo", str(notebook)],
+                          capture_output=True, text=True)
+    results = workdir / "results.json"
+    if not results.is_file():
+        raise RuntimeError(f"otter run wrote no results for {notebook}:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
+    tests = json.loads(results.read_text())["tests"]
+    questions = {t["name"]: (float(t.get("score") or 0.0), float(t["max_score"]), t.get("output", ""))
+                 for t in tests if t.get("max_score") is not None}
+    if not questions:  # otter's "Autograder Failed": the notebook or a test file did not run at all
+        raise RuntimeError(f"otter run graded no question of {notebook}: "
+                           + "; ".join(str(t.get("output", ""))[-1500:] for t in tests))
+    return {"score": sum(s for s, _, _ in questions.values()), "points": sum(p for _, p, _ in questions.values()),
+            "questions": questions}
+
+
+def fill_in(student: Path, answers: Path, dest: Path) -> Path:
+    """A submission: the ``student`` notebook with its answer cells (otter's ``otter_answer_cell``)
+    replaced, in order, by the code cells of the jupytext notebook ``answers``, as a student fills
+    them in. The two counts must agree."""
+    import jupytext
+    import nbformat
+
+    nb = nbformat.read(student, as_version=4)
+    slots = [c for c in nb.cells if "otter_answer_cell" in c.metadata.get("tags", [])]
+    code = [c.source for c in jupytext.read(answers, fmt="md:myst").cells if c.cell_type == "code"]
+    if len(code) != len(slots):
+        raise ValueError(f"{answers}: {len(code)} answer cells for the {len(slots)} of {student.name}")
+    for cell, src in zip(slots, code):
+        cell.source = src
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    nbformat.write(nb, dest)
+    return dest
+
+
+def build_and_grade(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None) -> dict:
+    """Build one assignment, then grade its solution notebook, its blank student notebook, and each
+    submission made from ``extra`` ({label: answers}, see :func:`fill_in`; e.g. a plausible wrong one)."""
+    t0 = time.perf_counter()
+    paths = build(name, out, root)
+    subs = {"solution": paths["solution"], "blank": paths["student"]}
+    for label, answers in (extra or {}).items():
+        subs[label] = fill_in(paths["student"], answers, Path(out) / name / "submissions" / f"{label}.ipynb")
+    grades = {label: grade(nb, paths["autograder"], Path(out) / name / "graded" / label) for label, nb in subs.items()}
+    return {"name": name, "paths": paths, "grades": grades, "seconds": time.perf_counter() - t0}
+
+
+def line(result: dict) -> str:
+    s, b = result["grades"]["solution"], result["grades"]["blank"]
+    return f"{result['name']}: solution {s['score']:g}/{s['points']:g} points, blank {b['score']:g}/{b['points']:g} points"
+
+
+def ok(result: dict) -> bool:
+    s, b = result["grades"]["solution"], result["grades"]["blank"]
+    return s["points"] > 0 and s["score"] == s["points"] and b["score"] < b["points"]
+
+
+def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None) -> list[dict]:
+    """Build and grade every assignment (``workers`` at a time); ``extra(name)`` gives more notebooks to grade."""
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        return list(pool.map(lambda n: build_and_grade(n, out, root, extra(n) if extra else None), names(root)))
+
+
+def summary(results: list[dict]) -> tuple[str, int]:
+    """The report of :func:`main`: one line per assignment (and, for a failure, what failed), and the
+    exit code: 1 when a solution gets less than full marks or a blank notebook gets full marks."""
+    out = []
+    for r in results:
+        out.append(line(r) + ("" if ok(r) else "   <-- FAILED"))
+        if not ok(r):
+            for q, (score, pts, output) in r["grades"]["solution"]["questions"].items():
+                if score < pts:
+                    out.append(f"  {r['name']} solution, {q}: {score:g}/{pts:g}\n{output}")
+    return "\n".join(out), 1 if (not results or not all(ok(r) for r in results)) else 0
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="Build every assignment's student notebook and autograder, "
+                                             "grade the solutions and the blank notebooks.")
+    ap.add_argument("--out", type=Path, default=OUT)
+    args = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    results = run_all(args.out)
+    text, rc = summary(results)
+    print(text)
+    print(f"{len(results)} assignments in {time.perf_counter() - t0:.0f} s; student notebooks in "
+          f"{args.out}/NAME/dist/student/, autograders in {args.out}/NAME/dist/autograder/")
+    return rc
+
+
+if __name__ == "__main__":
+    sys.exit(main())
