@@ -7,7 +7,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: book test bench clean book-student assignments
+.PHONY: book test bench test-kernels clean book-student assignments
 
 $(STAMP): requirements.txt pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -33,6 +33,10 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	set -eo pipefail; $(PY) -m benchmarks.run
+
+# a local check, not called by `make test` or CI: the fast suite once per OpenBLAS kernel
+test-kernels: $(STAMP)
+	set -eo pipefail; $(PY) -m tools.test_kernels
 
 clean:
 	rm -rf _build .pytest_cache
