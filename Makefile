@@ -11,7 +11,7 @@ LAB_SETTINGS := $(VENV)/share/jupyter/lab/settings
 PORT ?= 8000
 LAB_ARGS ?=
 
-.PHONY: book test lab serve bench clean book-student assignments
+.PHONY: book test lab serve bench test-kernels clean book-student assignments
 
 $(STAMP): requirements.txt pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -53,6 +53,10 @@ serve:
 
 bench: $(STAMP)
 	set -eo pipefail; $(PY) -m benchmarks.run
+
+# a local check, not called by `make test` or CI: the fast suite once per OpenBLAS kernel
+test-kernels: $(STAMP)
+	set -eo pipefail; $(PY) -m tools.test_kernels
 
 clean:
 	rm -rf _build .pytest_cache

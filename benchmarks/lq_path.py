@@ -5,8 +5,10 @@ T = 1000 closed-loop steps of Algorithm 1 with M = 50 on ``orrc.examples.two_mas
 
 * orrc: ``orrc.simulate(system, PreviewRHC(system, cost, M), x0, w, T)`` -- the exact LQ
   path (u_t = −K x_t − L vec(w_t..w_{t+M-1}), Lemma/closed form of ``orrc.solvers.lq``),
-  which also records the stage costs c_t, σ(x_t) and V_M(x_t, w_{t:t+M-1}) at each step and
-  enforces the preview information pattern (one read-only Observation per step);
+  which also records the stage costs c_t, σ(x_t) and V_M(x_t, w_{t:t+M-1}) of every step and
+  enforces the preview information pattern (one read-only Observation per step). The costs and
+  V_M do not feed back: they are computed after the loop, V_M = z_tᵀ H z_t for all t in one
+  matrix product (``Controller.values_batch``, issue 11);
 * a bare numpy loop with the same precomputed law (K = rhc.law.K, L = rhc.law.L) and the
   dynamics x_{t+1} = A x_t + B u_t + w_t, in three versions:
   - "floor": only the law, written as in issue 2 (u = −K x − L vec W), and the dynamics --
@@ -15,8 +17,9 @@ T = 1000 closed-loop steps of Algorithm 1 with M = 50 on ``orrc.examples.two_mas
   - "+ bookkeeping": the floor plus c_t = x_tᵀQx_t + u_tᵀRu_t and V_M = zᵀHz,
     z = [x_t; vec W_t], in the loop, i.e. the same outputs as orrc.
 
-All trajectories must agree to 1e-10 (and costs/values to 1e-10 relative). The target:
-orrc well under a second (we require < 0.5 s) and within 3× of the floor loop.
+All trajectories must agree to 1e-12 (and costs/values to 1e-12 relative). The target
+(issue 11): orrc within 1.5× of the floor loop (issue 2 asked for 3×, and well under a second:
+we require < 0.5 s).
 Repetitions are interleaved (orrc, floor, fused floor, bookkeeping, orrc, ...) so that a
 load change on the machine hits all of them alike; medians are reported.
 """
@@ -29,9 +32,9 @@ from orrc.solvers import lq
 
 from .common import CheckFailed, Row, fmt_time, timed
 
-TARGET_RATIO = 3.0
+TARGET_RATIO = 1.5
 TARGET_SECONDS = 0.5
-ATOL = 1e-10
+ATOL = 1e-12
 
 
 def bare_loop(A, B, K, L, w_all, x0, T: int, M: int):

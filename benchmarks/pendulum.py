@@ -8,8 +8,10 @@ The problem (Eq. 3 of the paper for ``orrc.examples.inverted_pendulum()``), M = 
 
 solved by
 
-* orrc: ``PreviewRHC(...).plan(x, W)`` (CasADi multiple shooting + IPOPT, exact
-  derivatives), cold-started (zero inputs, the state held over the horizon);
+* orrc: ``PreviewRHC(...).plan(x, W)`` on its default NLP path: CasADi multiple shooting solved by
+  SQP (CasADi's ``sqpmethod`` with the QP solver ``qrqp``, exact derivatives), cold-started (zero
+  inputs, the state held over the horizon); and, in the same run, the same problem with
+  ``solver="ipopt"`` (IPOPT, the fallback rung and the solver before issue 11);
 * python-control 0.10.2: ``control.optimal.solve_ocp`` on a discrete-time
   ``NonlinearIOSystem`` (dt = 0.05) whose update function is the same model written
   in numpy with the previewed disturbance folded in (w_k picked by the time index
@@ -18,11 +20,13 @@ solved by
   default cold start (zero inputs) and ``minimize_method='SLSQP'`` (scipy's choice
   for a constrained problem anyway; it needed no other option to reach the optimum).
 
-Both input sequences are evaluated by one independent numpy rollout of the cost
-(:func:`rollout`), and the values must agree within 1e-4 relative. The target
-is orrc's cold step at least 50× faster (median over repetitions, same run). The
-warm-started orrc step (the next RHC step, warm-started from the shifted plan) and
-the one-off build time of the CasADi solver are reported separately.
+All input sequences are evaluated by one independent numpy rollout of the cost
+(:func:`rollout`): orrc's SQP and IPOPT answers must agree to 1e-6 relative (issue 11), and
+solve_ocp's to 1e-4 (SLSQP with finite differences; measured 4e-10 to 5e-8). The target
+(issue 11) is orrc's cold step at least 1000× faster than solve_ocp (median over repetitions,
+same run; issue 2 asked for 50×). Reported beside it: IPOPT's cold step, the next RHC step
+warm-started from the shifted plan against a cold solve of that same step (time and
+iterations, SQP and IPOPT), and the one-off build of the CasADi solvers.
 """
 from __future__ import annotations
 
@@ -34,8 +38,9 @@ from .common import CheckFailed, Row, fmt_time, timed
 
 DT, G_OVER_L, FRICTION, U_MAX = 0.05, 9.81, 0.1, 20.0
 Q_THETA, Q_OMEGA, R_U = 10.0, 1.0, 0.1
-TARGET_SPEEDUP = 50.0
-VALUE_RTOL = 1e-4
+TARGET_SPEEDUP = 1000.0
+VALUE_RTOL = 1e-4   # orrc against solve_ocp (SLSQP, finite differences)
+SAME_RTOL = 1e-6    # orrc's SQP against its IPOPT (issue 11)
 
 
 def step(x, u, w):
@@ -92,8 +97,22 @@ def solve_ocp(x0, W, M: int):
     return U, res
 
 
+def _median_times(calls: dict, reps: dict) -> dict:
+    """{name: (last result, median seconds)} of timed calls ``calls[name]()`` (zero-argument), repeated
+    ``reps[name]`` times and interleaved round by round, so that a change of load on the machine hits
+    every one of them alike."""
+    times = {k: [] for k in calls}
+    last = {}
+    for i in range(max(reps.values())):
+        for k, fn in calls.items():
+            if i < reps[k]:
+                last[k], t = timed(fn)
+                times[k].append(t)
+    return {k: (last[k], float(np.median(times[k]))) for k in calls}
+
+
 def run(M: int = 20, thetas=(0.2, 0.5, 1.0), reps_orrc: int = 21, reps_peer: int = 5) -> list[Row]:
-    """Run the benchmark; raises :class:`CheckFailed` if the two solvers disagree."""
+    """Run the benchmark; raises :class:`CheckFailed` if the solvers disagree."""
     ex = orrc.examples.inverted_pendulum(dt=DT, g_over_l=G_OVER_L, friction=FRICTION, u_max=U_MAX)
     _check_model(ex)
     W_all = preview(M)
@@ -102,27 +121,34 @@ def run(M: int = 20, thetas=(0.2, 0.5, 1.0), reps_orrc: int = 21, reps_peer: int
     for _ in range(3):
         rhc, t_build = timed(orrc.PreviewRHC, ex.system, ex.cost, M, input_bounds=ex.input_bounds)
         builds.append(t_build)
+    rhc_ip = orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds, solver="ipopt")
     bench = f"pendulum M={M}"
     rows = []
     for theta in thetas:
         x0 = np.array([theta, 0.0])
-        cold = [timed(rhc.plan, x0, W) for _ in range(reps_orrc)]
-        plan = cold[-1][0]
-        t_orrc = float(np.median([t for _, t in cold]))
-        peer = [timed(solve_ocp, x0, W, M) for _ in range(reps_peer)]
-        (U_ct, res), t_peer = peer[-1][0], float(np.median([t for _, t in peer]))
-        # the referee: one independent rollout for both answers
-        (_, J_orrc), (X_ref, J_ct) = rollout(x0, plan.inputs, W), rollout(x0, U_ct, W)
-        gap = (J_ct - J_orrc) / abs(J_orrc)
-        viol = max(0.0, float(np.abs(U_ct).max() - U_MAX), float(np.abs(plan.inputs).max() - U_MAX))
+        out = _median_times({"sqp": lambda: rhc.plan(x0, W), "ipopt": lambda: rhc_ip.plan(x0, W),
+                             "peer": lambda: solve_ocp(x0, W, M)},
+                            {"sqp": reps_orrc, "ipopt": max(3, reps_orrc // 3), "peer": reps_peer})
+        (plan, t_orrc), (plan_ip, t_ip), ((U_ct, res), t_peer) = out["sqp"], out["ipopt"], out["peer"]
+        # the referee: one independent rollout for every answer
+        (_, J_orrc), (_, J_ip), (X_ref, J_ct) = (rollout(x0, plan.inputs, W), rollout(x0, plan_ip.inputs, W),
+                                               rollout(x0, U_ct, W))
+        gap, gap_ip = (J_ct - J_orrc) / abs(J_orrc), (J_ip - J_orrc) / abs(J_orrc)
+        viol = max(0.0, float(np.abs(U_ct).max() - U_MAX), float(np.abs(plan.inputs).max() - U_MAX),
+                   float(np.abs(plan_ip.inputs).max() - U_MAX))
         X_ct = np.asarray(res.states)
         problems = []
-        if not (plan.success and res.success):
-            problems.append(f"solver failure (orrc {plan.status!r}, solve_ocp {res.message!r})")
+        if not (plan.success and plan_ip.success and res.success):
+            problems.append(f"solver failure (orrc {plan.status!r}, IPOPT {plan_ip.status!r}, solve_ocp {res.message!r})")
+        if plan.solver != "sqp":
+            problems.append(f"the default path's step was not solved by SQP ({plan.solver}: {plan.status})")
         if abs(gap) > VALUE_RTOL:
             problems.append(f"values differ: orrc {J_orrc:.8g}, solve_ocp {J_ct:.8g} (rel. gap {gap:.2e})")
-        if abs(plan.value - J_orrc) > 1e-8 * max(1.0, abs(J_orrc)):
-            problems.append(f"orrc's reported V_M {plan.value:.10g} != its rollout {J_orrc:.10g}")
+        if abs(gap_ip) > SAME_RTOL:
+            problems.append(f"SQP and IPOPT differ: {J_orrc:.10g} vs {J_ip:.10g} (rel. gap {gap_ip:.2e})")
+        for p_, J_ in ((plan, J_orrc), (plan_ip, J_ip)):
+            if abs(p_.value - J_) > 1e-8 * max(1.0, abs(J_)):
+                problems.append(f"orrc's reported V_M {p_.value:.10g} != its rollout {J_:.10g} ({p_.solver})")
         if np.abs(X_ct.T - X_ref).max() > 1e-9:
             problems.append("python-control's state trajectory is not the numpy rollout "
                             "(the disturbance was not folded in as intended)")
@@ -131,31 +157,44 @@ def run(M: int = 20, thetas=(0.2, 0.5, 1.0), reps_orrc: int = 21, reps_peer: int
         if problems:
             raise CheckFailed(f"{bench}, θ0={theta:g}: " + "; ".join(problems))
         speedup = t_peer / t_orrc
-        check = (f"J: orrc {J_orrc:.6f}, solve_ocp {J_ct:.6f}, rel. gap {gap:+.1e} "
-                 f"(IPOPT {plan.iterations} it., SLSQP {res.problem.cost_evaluations} cost evals)")
-        rows.append(Row(bench + ", one RHC step, cold", f"θ0={theta:g}", fmt_time(t_orrc),
+        check = (f"J: orrc {J_orrc:.6f}, IPOPT rel. gap {gap_ip:+.1e}, solve_ocp {gap:+.1e} "
+                 f"(SQP {plan.iterations} it., IPOPT {plan_ip.iterations} it., SLSQP {res.problem.cost_evaluations} "
+                 "cost evals)")
+        rows.append(Row(bench + ", one RHC step, cold (SQP)", f"θ0={theta:g}", fmt_time(t_orrc),
                         f"{fmt_time(t_peer)} (solve_ocp)", f"{speedup:.0f}× faster",
                         f"≥ {TARGET_SPEEDUP:.0f}×", speedup >= TARGET_SPEEDUP, check,
-                        dict(theta0=theta, t_orrc=t_orrc, t_peer=t_peer, J_orrc=J_orrc, J_peer=J_ct,
-                             gap=gap, speedup=speedup)))
-        # the next RHC step, warm-started from the shifted plan (what the controller does)
+                        dict(theta0=theta, t_orrc=t_orrc, t_ipopt=t_ip, t_peer=t_peer, J_orrc=J_orrc, J_ipopt=J_ip,
+                             J_peer=J_ct, gap=gap, gap_ipopt=gap_ip, speedup=speedup)))
+        rows.append(Row(bench + ", one RHC step, cold (IPOPT)", f"θ0={theta:g}", fmt_time(t_ip),
+                        f"{fmt_time(t_peer)} (solve_ocp)", f"{t_peer / t_ip:.0f}× faster", "—", None,
+                        f"SQP is {t_ip / t_orrc:.0f}× faster than IPOPT on this step",
+                        dict(theta0=theta, t_ipopt=t_ip, t_peer=t_peer)))
+        # the next RHC step, warm-started from the shifted plan (what the controller does), against
+        # a cold solve of the same step, for both solvers
         x1 = step(x0, plan.inputs[0], W[0])
         W1 = W_all[1:M + 1]
-        warm = [timed(rhc.plan, x1, W1, warm_start=plan) for _ in range(reps_orrc)]
-        wplan, t_warm = warm[-1][0], float(np.median([t for _, t in warm]))
-        J_warm_cold = rollout(x1, rhc.plan(x1, W1).inputs, W1)[1]
-        J_warm = rollout(x1, wplan.inputs, W1)[1]
-        if not wplan.success or abs(J_warm - J_warm_cold) > VALUE_RTOL * abs(J_warm_cold):
-            raise CheckFailed(f"{bench}, θ0={theta:g}: the warm-started step ({J_warm:.8g}, "
-                              f"{wplan.status}) differs from a cold solve ({J_warm_cold:.8g})")
-        rows.append(Row(bench + ", next step, warm-started", f"θ0={theta:g}", fmt_time(t_warm), "—",
-                        f"{t_peer / t_warm:.0f}× vs cold solve_ocp", "—", None,
-                        f"same optimum as a cold solve (IPOPT {wplan.iterations} it.)",
-                        dict(theta0=theta, t_warm=t_warm)))
+        effort = {}
+        for name, r, first in (("SQP", rhc, plan), ("IPOPT", rhc_ip, plan_ip)):
+            reps = reps_orrc if name == "SQP" else max(3, reps_orrc // 3)
+            out = _median_times({"warm": lambda: r.plan(x1, W1, warm_start=first), "cold": lambda: r.plan(x1, W1)},
+                                {"warm": reps, "cold": reps})
+            (wplan, t_warm), (cplan, t_cold) = out["warm"], out["cold"]
+            J_warm, J_cold = rollout(x1, wplan.inputs, W1)[1], rollout(x1, cplan.inputs, W1)[1]
+            if not (wplan.success and cplan.success) or abs(J_warm - J_cold) > SAME_RTOL * abs(J_cold):
+                raise CheckFailed(f"{bench}, θ0={theta:g}: the warm-started {name} step ({J_warm:.10g}, "
+                                  f"{wplan.status}) differs from a cold solve ({J_cold:.10g}, {cplan.status})")
+            effort[name] = (t_warm, wplan.iterations, t_cold, cplan.iterations)
+        (tw, iw, tc, ic), (tw2, iw2, tc2, ic2) = effort["SQP"], effort["IPOPT"]
+        rows.append(Row(bench + ", next step, warm vs cold", f"θ0={theta:g}", f"{fmt_time(tw)} ({iw} it.)",
+                        f"{fmt_time(tc)} ({ic} it.) cold", f"{tc / tw:.2f}× (warm saves {ic - iw} it.)", "—", None,
+                        f"IPOPT: warm {fmt_time(tw2)} ({iw2} it.), cold {fmt_time(tc2)} ({ic2} it.); same optimum",
+                        dict(theta0=theta, t_warm=tw, t_cold=tc, it_warm=iw, it_cold=ic,
+                             t_warm_ipopt=tw2, t_cold_ipopt=tc2, it_warm_ipopt=iw2, it_cold_ipopt=ic2)))
     t_build = float(np.median(builds))
-    incl = [r.data["t_peer"] / (r.data["t_orrc"] + t_build) for r in rows if r.ok is not None]
+    cold = [r for r in rows if r.ok is not None]
+    incl = [r.data["t_peer"] / (r.data["t_orrc"] + t_build) for r in cold]
     rows.append(Row(bench + ", solver build (once per controller)", "—", fmt_time(t_build), "—",
                     f"build + cold step: {min(incl):.0f}–{max(incl):.0f}× faster than solve_ocp", "—", None,
-                    "PreviewRHC(...) construction: CasADi transcription + nlpsol",
+                    "PreviewRHC(...) construction: CasADi transcription + SQP and IPOPT solvers",
                     dict(t_build=t_build, speedup_incl_build=incl)))
     return rows

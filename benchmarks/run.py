@@ -1,7 +1,8 @@
 """Entry point of ``make bench``: ``python -m benchmarks.run [--quick] [--only NAME]``.
 
-Runs the performance benchmarks of issue 2 (see ``benchmarks/pendulum.py`` and
-``benchmarks/lq_path.py``), prints the machine and a Markdown table of results,
+Runs the performance benchmarks of issues 2 and 11 (see ``benchmarks/pendulum.py``,
+``benchmarks/closed_loop.py`` and ``benchmarks/lq_path.py``), the comparison table of issue 14 and
+the min-max benchmark of issue 13 (``benchmarks/minmax.py``), prints the machine and a Markdown table of results,
 and exits with status 1 if a target is missed or a correctness check fails
 (status 0 otherwise). ``--quick`` runs tiny sizes: it checks that the benchmarks
 work, and its timings mean nothing.
@@ -12,16 +13,19 @@ import argparse
 import sys
 import time
 
-from . import comparison, lq_path, pendulum
+from . import closed_loop, comparison, lq_path, minmax, pendulum
 from .common import CheckFailed, machine, markdown_table
 
-FULL = {"pendulum": {}, "lq": {}, "comparison": {}}  # the defaults of pendulum.run and lq_path.run
+FULL = {"pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}, "minmax": {}}  # the defaults of each module's run()
 QUICK = {
     "pendulum": dict(M=5, thetas=(0.5,), reps_orrc=2, reps_peer=1),
+    "closed_loop": dict(T=12, reps=1, reps_ipopt=1),
     "lq": dict(T=40, M=5, reps=2),
     "comparison": dict(T=10, M=4),
+    "minmax": dict(Ms=(4, 5), reps=1, M_pendulum=5, T=4),
 }
-MODULES = {"pendulum": pendulum, "lq": lq_path, "comparison": comparison}
+MODULES = {"pendulum": pendulum, "closed_loop": closed_loop, "lq": lq_path, "comparison": comparison,
+           "minmax": minmax}
 
 
 def main(argv=None) -> int:

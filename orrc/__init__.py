@@ -6,7 +6,7 @@ controllers, the closed-loop simulator and the metrics. Plotting lives in
 """
 from ._validate import NonFiniteWarning, OrrcValueError, SizeWarning
 from .controllers import (GPC, LQR, Clairvoyant, Controller, Decision, DisturbanceAction, EstimateThenControl, HInfinity,
-                          LiftedRHC, Observation, PreviewRHC, RegretOptimal, ZeroInput)
+                          LiftedRHC, MinMaxRHC, Observation, PreviewRHC, RegretOptimal, ZeroInput)
 from .costs import Cost, CostSequence, L1Cost, QuadraticCost, StageCost
 from .disturbances import Ball, Box
 from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
@@ -24,7 +24,7 @@ __all__ = [
     "System", "LinearSystem", "NonlinearSystem", "ParametricSystem", "LinearParametricSystem",
     "StageCost", "QuadraticCost", "L1Cost", "Cost", "CostSequence",
     "Ball", "Box", "disturbances", "examples",
-    "Controller", "Observation", "Decision", "PreviewRHC", "EstimateThenControl", "LiftedRHC", "LQR",
+    "Controller", "Observation", "Decision", "PreviewRHC", "EstimateThenControl", "LiftedRHC", "MinMaxRHC", "LQR",
     "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "Plan",
     "simulate", "Trajectory",
     "attenuation_regret", "attenuation_ratio", "dynamic_regret",

@@ -140,21 +140,47 @@ def as_seed(name: str, seed) -> np.random.Generator:
     return np.random.default_rng(int(seed))
 
 
-def check_psd(name: str, mat: np.ndarray, *, strict: bool = False, tol: float = 1e-12) -> None:
-    """``mat`` symmetric positive semidefinite (``strict``: definite), up to a tolerance
-    relative to its largest entry; ``mat`` may be a stack (..., k, k) of matrices, each checked."""
-    scale = max(1.0, float(np.abs(mat).max())) if mat.size else 1.0
-    if not np.allclose(mat, np.swapaxes(mat, -1, -2), atol=1e-10 * scale):
-        raise OrrcValueError(f"{name} must be symmetric")
+def eigvalsh_tol(mat: np.ndarray) -> float:
+    """N·eps·‖mat‖₂: a bound on the rounding error of every eigenvalue ``np.linalg.eigvalsh`` returns
+    for the symmetric N×N ``mat``. LAPACK's symmetric eigensolvers are backward stable (the computed
+    eigenvalues are exact for mat + E, ‖E‖₂ <= p(N)·eps·‖mat‖₂ with p(N) a modest function of N;
+    p(N) = N here) and, by Weyl's inequality, each eigenvalue moves by at most ‖E‖₂. The bound
+    scales with the data and holds whatever BLAS kernel runs."""
+    if mat.size == 0:
+        return 0.0
+    return mat.shape[0] * float(np.finfo(float).eps) * float(np.linalg.norm(mat, 2))
+
+
+def check_psd(name: str, mat: np.ndarray, *, strict: bool = False, tol: float | None = None) -> None:
+    """``mat`` symmetric positive semidefinite (``strict``: definite); ``mat`` may be a stack
+    (..., k, k) of matrices, each checked.
+
+    Every test is relative to the scale of each matrix, so a matrix passes or fails the same way
+    whatever its units and whatever BLAS kernel computes its eigenvalues:
+
+    * symmetric: max |mat - matᵀ| <= 1e-10 max |mat|. A matrix built symmetric but computed in
+      floating point (G Gᵀ, a sum of such) is off by at most ~2k·eps·max|mat| (k the inner
+      dimension), far below; a matrix that is not meant to be symmetric is far above.
+    * eigenvalues: ``tol`` (default k·eps·‖mat‖₂, :func:`eigvalsh_tol`) bounds their rounding
+      error. λ_min < -tol proves that mat is indefinite; with ``strict``, λ_min <= tol cannot be
+      told apart from a singular matrix, so it is refused as not positive definite.
+    """
     if mat.size == 0:
         return
-    lam = np.linalg.eigvalsh(mat)[..., 0]
-    k = int(np.argmin(lam))
+    asym = np.abs(mat - np.swapaxes(mat, -1, -2)).max(axis=(-2, -1))
+    if not np.all(asym <= 1e-10 * np.abs(mat).max(axis=(-2, -1))):
+        raise OrrcValueError(f"{name} must be symmetric")
+    lam_all = np.linalg.eigvalsh(mat)
+    lam = lam_all[..., 0]
+    if tol is None:   # eigvalsh_tol of each matrix, with ‖mat‖₂ = max |λ| (symmetric)
+        tol = mat.shape[-1] * float(np.finfo(float).eps) * np.abs(lam_all).max(axis=-1)
+    excess = lam - (tol if strict else -np.asarray(tol))    # <= 0 (strict) / < 0: refused
+    k = int(np.argmin(excess))
     lo = float(np.ravel(lam)[k])
     where = "" if lam.ndim == 0 else f" (at row {k})"
-    if strict and lo <= tol * scale:
+    if strict and np.ravel(excess)[k] <= 0:
         raise OrrcValueError(f"{name} must be positive definite; its smallest eigenvalue is {lo:.3g}{where}")
-    if not strict and lo < -tol * scale:
+    if not strict and np.ravel(excess)[k] < 0:
         raise OrrcValueError(f"{name} must be positive semidefinite; its smallest eigenvalue is {lo:.3g}{where}")
 
 

@@ -21,8 +21,9 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
+from ._casadi import DropsBuffers, buffered
 from ._validate import (OrrcValueError, _describe, as_array, as_float, as_int, as_square, check_evaluates,
-                        check_finite_result, check_psd, probe_points)
+                        check_finite_result, check_psd, eigvalsh_tol, probe_points)
 
 
 def _norm_sq(x) -> float:
@@ -102,12 +103,15 @@ class StageCost:
         return params
 
 
-def _alpha_lo(given, largest: float, what: str) -> float:
-    """α_lo: ``largest`` (the best valid lower bound) unless a smaller one is given."""
+def _alpha_lo(given, largest: float, what: str, tol: float = 0.0) -> float:
+    """α_lo: ``largest`` (the best valid lower bound) unless a smaller one is given.
+
+    ``tol``: the rounding error of ``largest`` (for λ_min(Q), n·eps·‖Q‖₂: :func:`eigvalsh_tol`);
+    a given α_lo above ``largest`` by more than that is not a lower bound, at any scale of Q."""
     if given is None:
         return largest
     given = as_float("alpha_lo", given, minimum=0.0)
-    if given > largest + 1e-12 * max(1.0, abs(largest)):
+    if given > largest + tol:
         raise OrrcValueError(
             f"alpha_lo={given} is not a valid lower bound: c(x,u) >= alpha_lo*|x|^2 needs alpha_lo <= "
             f"{what} = {largest:.6g}")
@@ -131,7 +135,7 @@ class QuadraticCost(StageCost):
         self.n, self.m = Q.shape[0], R.shape[0]
         self.n_params = self.n * self.n + self.m * self.m
         self.default_params = np.concatenate([Q.ravel(), R.ravel()])
-        self.alpha_lo = _alpha_lo(alpha_lo, float(np.linalg.eigvalsh(Q).min()), "lambda_min(Q)")
+        self.alpha_lo = _alpha_lo(alpha_lo, float(np.linalg.eigvalsh(Q).min()), "lambda_min(Q)", eigvalsh_tol(Q))
         self.name = _name(name)
 
     def _rows(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -195,7 +199,7 @@ class QuadraticCost(StageCost):
         return f"QuadraticCost(n={self.n}, m={self.m}, alpha_lo={self.alpha_lo:.4g})"
 
 
-class Cost(StageCost):
+class Cost(DropsBuffers, StageCost):
     """A general stage cost written with CasADi operations.
 
     Parameters
@@ -245,7 +249,9 @@ class Cost(StageCost):
         return self._fun(x, u, p) if self.n_params else self._fun(x, u)
 
     def _value(self, x, u, p) -> float:
-        return float(self.function(x, u, self.default_params if p is None else p))
+        call = buffered(self, "c", lambda: self.function)  # numpy buffers: no CasADi matrices per call
+        call(x, u, self.default_params if p is None else p)
+        return float(call.res[0][0])
 
     def sigma(self, x) -> float:
         """σ(x) of Assumption 2: the user's function (default ‖x‖²); refused unless a finite number >= 0."""
@@ -279,9 +285,11 @@ class CostSequence:
         self.params.flags.writeable = False
         # α_lo of the SEQUENCE: min_t λ_min(Q_t) for quadratic costs; a general family's declared
         # α_lo holds for every p (Cost's contract), so it holds for the sequence
-        own = (float(np.linalg.eigvalsh(stage._rows(self.params)[0])[:, 0].min())
-               if isinstance(stage, QuadraticCost) else stage.alpha_lo)
-        self.alpha_lo = _alpha_lo(alpha_lo, own, "min_t lambda_min(Q_t)") if own is not None else (
+        own, tol = stage.alpha_lo, 0.0
+        if isinstance(stage, QuadraticCost):
+            lam = np.linalg.eigvalsh(stage._rows(self.params)[0])       # (L, n)
+            own, tol = float(lam[:, 0].min()), stage.n * float(np.finfo(float).eps) * float(np.abs(lam).max())
+        self.alpha_lo = _alpha_lo(alpha_lo, own, "min_t lambda_min(Q_t)", tol) if own is not None else (
             None if alpha_lo is None else as_float("alpha_lo", alpha_lo, minimum=0.0))
 
     def __len__(self):

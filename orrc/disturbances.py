@@ -137,10 +137,12 @@ class Ball:
         return self.radius ** 2
 
     def contains(self, w, tol: float = 1e-9) -> bool:
-        """True when every row of w ((n,) or (L, n)) lies in the ball, up to ``tol``."""
+        """True when every row of w ((n,) or (L, n)) lies in the ball, up to a relative ``tol``
+        (‖w‖ is computed to n·eps relative; the allowance scales with the radius, so the test
+        does not depend on units)."""
         w = _points("w", w, self.n)
         tol = as_float("tol", tol, minimum=0.0)
-        return bool(np.all(np.linalg.norm(w, axis=1) <= self.radius + tol))
+        return bool(np.all(np.linalg.norm(w, axis=1) <= self.radius * (1 + tol)))
 
     def sample(self, L: int, seed=None) -> np.ndarray:
         """L points drawn uniformly from the ball (i.i.d.), shape (L, n)."""
@@ -189,10 +191,12 @@ class Box:
         return np.where(bits == 1, self.hi, self.lo)
 
     def contains(self, w, tol: float = 1e-9) -> bool:
-        """True when every row of w ((n,) or (L, n)) lies in the box, up to ``tol``."""
+        """True when every row of w ((n,) or (L, n)) lies in the box, up to ``tol`` relative to
+        each coordinate's scale max(|lo_i|, |hi_i|) (so the test does not depend on units)."""
         w = _points("w", w, self.n)
         tol = as_float("tol", tol, minimum=0.0)
-        return bool(np.all(w >= self.lo - tol) and np.all(w <= self.hi + tol))
+        slack = tol * np.maximum(np.abs(self.lo), np.abs(self.hi))
+        return bool(np.all(w >= self.lo - slack) and np.all(w <= self.hi + slack))
 
     def sample(self, L: int, seed=None) -> np.ndarray:
         """L points drawn uniformly from the box (i.i.d.), shape (L, n)."""

@@ -41,7 +41,7 @@ from ._validate import NonFiniteWarning, OrrcValueError, as_array, as_int, check
 from .controllers.base import Controller, Observation
 from .costs import CostSequence, QuadraticCost, StageCost
 from .solvers.plan import SolverError, SolverWarning
-from .systems import LinearSystem, System
+from .systems import LinearSystem, NonlinearSystem, System
 
 
 @dataclass
@@ -59,7 +59,10 @@ class Trajectory:
         ``values``); the checks of :mod:`orrc.checks` refuse a trajectory where it is not all True
     success : (T,) False at the steps whose solve failed (True where the controller solved
         nothing, e.g. the clairvoyant's steps after t = 0); status : list of solver statuses (a
-        step rescued by a cold retry reads "cold start: Solve_Succeeded (after warm start: ...)")
+        step rescued by a retry reads e.g. "SQP cold start: Solve_Succeeded (after SQP warm start: ...)")
+    solver : list, per step, the solver that produced the step ("lq", "sqp", "ipopt"; for a
+        failed step the last one tried; None where nothing was solved); :attr:`solver_counts`
+        counts them (e.g. how often SQP fell back to IPOPT)
     fallback : list, per step, None or what was applied instead of the failed solve's optimum
         (e.g. "the previous successful plan, shifted", "the solver's last iterate")
     iterations, solve_times : (T,) solver iterations and seconds per step
@@ -86,6 +89,7 @@ class Trajectory:
     info: dict = field(default_factory=dict)
     value_valid: np.ndarray | None = None
     fallback: list = field(default_factory=list)
+    solver: list = field(default_factory=list)
 
     @property
     def T(self) -> int:
@@ -100,6 +104,11 @@ class Trajectory:
     def failed_steps(self) -> np.ndarray:
         """The steps t whose solve failed."""
         return np.flatnonzero(~self.success)
+
+    @property
+    def solver_counts(self) -> dict:
+        """{solver: number of steps it produced} (``solver`` per step; None: nothing solved)."""
+        return dict(Counter(self.solver))
 
     def __repr__(self):
         return (f"Trajectory(controller={self.controller!r}, T={self.T}, total cost={self.costs.sum():.4g}, "
@@ -165,6 +174,42 @@ def _nonfinite_report(name, C, sig, V, valid_value):
             "weights, the state or T are too large for floating point; the metrics refuse these values")
 
 
+def _fast_loop(fast, controller, T, m, X, X_read, U, wpad, Mw, step, A, B) -> None:
+    """The closed loop of a controller that offers ``fast_input`` (:mod:`orrc.controllers.base`): the
+    same information (x_t read-only, the preview w_{t:t+M_w-1}), no Observation or Decision per step."""
+    m_shape = (m,)
+    empty_w = wpad[:0]
+    for t in range(T):
+        xt = X_read[t]
+        u = fast(xt, wpad[t:t + Mw] if Mw else empty_w)
+        if type(u) is not np.ndarray or u.shape != m_shape or u.dtype != float:
+            try:
+                u = np.asarray(u, dtype=float).reshape(m)
+            except (TypeError, ValueError) as exc:
+                raise OrrcValueError(f"controller {controller.name!r}: fast_input must return u with m={m} entries; "
+                                     f"at t={t} it returned shape {np.shape(u)}") from exc
+        U[t] = u
+        X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
+
+
+def _batch_values(controller, X, wpad, Mw: int, deferred, V, has_value) -> None:
+    """V[t] for the deferred steps t, from one ``controller.values_batch`` call (see
+    :mod:`orrc.controllers.base`): the states x_t and the preview windows w_{t:t+M_w-1} (read-only
+    views of the disturbance record, not copies)."""
+    idx = np.flatnonzero(deferred)
+    n = wpad.shape[1]
+    s0, s1 = wpad.strides
+    windows = np.lib.stride_tricks.as_strided(wpad, shape=(len(V), Mw, n), strides=(s0, s0, s1), writeable=False)
+    if len(idx) < len(V):
+        windows = windows[idx]
+    vals = np.asarray(controller.values_batch(X[idx], windows), dtype=float)
+    if vals.shape != (len(idx),):
+        raise OrrcValueError(f"controller {controller.name!r}: values_batch must return one value per deferred step, "
+                             f"shape ({len(idx)},); it returned shape {vals.shape}")
+    V[idx] = vals
+    has_value[idx] = True
+
+
 def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) -> Trajectory:
     """Run ``controller`` on ``system`` for T steps from x0 under disturbances ``w``.
 
@@ -218,6 +263,8 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
     C = np.empty(T)
     V = np.full(T, np.nan)
     has_value = np.zeros(T, dtype=bool)
+    deferred = np.zeros(T, dtype=bool)  # V_M to come from controller.values_batch after the loop
+    solver = [None] * T
     ok = np.ones(T, dtype=bool)
     status = [""] * T
     fallback = [None] * T
@@ -229,11 +276,15 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
     quad = isinstance(stage, QuadraticCost) and seq is None
     Q, R = (stage.Q, stage.R) if quad else (None, None)
     stage_cost = stage._value if type(stage).value is StageCost.value else stage.value  # x, u checked here
+    step = system._step if type(system).step is NonlinearSystem.step else system.step  # finiteness checked below
     empty_w = wpad[:0]
 
     def trajectory(steps: int, wall: float) -> Trajectory:
         """The record of the first ``steps`` steps (all T, or the steps before a SolverError)."""
         Xs, Us, Cs, Vs, oks = X[:steps + 1], U[:steps], C[:steps], V[:steps], ok[:steps]
+        if deferred[:steps].any():  # V_M of the deferred steps: one call for the whole run
+            with np.errstate(over="ignore", invalid="ignore"):  # an overflowed V_M is reported below
+                _batch_values(controller, Xs, wpad, Mw, deferred[:steps], Vs, has_value[:steps])
         if quad:  # c_t = x_tᵀQx_t + u_tᵀRu_t for all t at once (the costs do not feed back)
             with np.errstate(over="ignore", invalid="ignore"):
                 Cs[:] = np.einsum("ti,ti->t", Xs[:-1] @ Q, Xs[:-1]) + np.einsum("ti,ti->t", Us @ R, Us)
@@ -256,14 +307,27 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
                           iterations=iters[:steps].copy(), solve_times=times[:steps].copy(),
                           controller=controller.name, preview_w=Mw, preview_c=Mc, alpha_lo=alpha_lo,
                           wall_time=wall, info=dict(controller.record()), value_valid=valid,
-                          fallback=fallback[:steps])
+                          fallback=fallback[:steps], solver=solver[:steps])
 
+    X_read = X.view()  # its rows are read-only views: what the controller is handed as x_t
+    X_read.flags.writeable = False
+    m_shape = (m,)
     controller.reset()
+    fast = controller.fast_input if (cparams is None or not Mc) else None  # (orrc.controllers.base)
     start = time.perf_counter()
     with np.errstate(over="ignore", invalid="ignore"):  # divergence is checked (and raised) below
-        for t in range(T):
-            xt = X[t].copy()
-            xt.flags.writeable = False
+        if fast is not None:
+            _fast_loop(fast, controller, T, m, X, X_read, U, wpad, Mw, step if not linear else None, A, B)
+            tmpl = controller.fast_decision
+            status[:], solver[:] = [tmpl.status] * T, [tmpl.solver] * T
+            deferred[:] = tmpl.value_deferred
+            if tmpl.value is not None:
+                V[:], has_value[:] = tmpl.value, True
+            if not quad:
+                for t in range(T):
+                    C[t] = stage_cost(X[t], U[t], None if seq is None else cparams[t])
+        for t in range(T if fast is None else 0):
+            xt = X_read[t]  # a read-only view of x_t (X[t] is not written again)
             obs = Observation(t, xt, wpad[t - 1] if t > 0 else None,
                               wpad[t:t + Mw] if Mw else empty_w,
                               cparams[t:t + Mc] if (cparams is not None and Mc) else None)
@@ -272,25 +336,31 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
             except SolverError as exc:  # the controller gave up: hand back the run so far
                 exc.trajectory = trajectory(t, time.perf_counter() - start)
                 raise
-            try:
-                u = np.asarray(d.u, dtype=float).reshape(m)
-            except (TypeError, ValueError, AttributeError) as exc:
-                raise OrrcValueError(
-                    f"controller {controller.name!r} must return a Decision whose u has m={m} entries; at t={t} "
-                    f"it returned {type(d).__name__} with u of shape {np.shape(getattr(d, 'u', None))}") from exc
+            u = getattr(d, "u", None)
+            if type(u) is not np.ndarray or u.shape != m_shape or u.dtype != float:  # (the fast path: an (m,) array)
+                try:
+                    u = np.asarray(u, dtype=float).reshape(m)
+                except (TypeError, ValueError) as exc:
+                    raise OrrcValueError(
+                        f"controller {controller.name!r} must return a Decision whose u has m={m} entries; at t={t} "
+                        f"it returned {type(d).__name__} with u of shape {np.shape(u)}") from exc
             U[t] = u
             if d.value is not None:
                 V[t] = d.value
                 has_value[t] = True
-            ok[t], status[t], iters[t], times[t] = d.success, d.status, d.iterations, d.solve_time
+            elif d.value_deferred:
+                deferred[t] = True
+            status[t], solver[t] = d.status, d.solver
+            if d.iterations or d.solve_time:
+                iters[t], times[t] = d.iterations, d.solve_time
             if not d.success:
-                fallback[t] = d.fallback
+                ok[t], fallback[t] = False, d.fallback
             if not quad:
                 C[t] = stage_cost(xt, u, None if seq is None else cparams[t])
             if linear:
                 X[t + 1] = A @ xt + B @ u + wpad[t]
             else:
-                X[t + 1] = system.step(xt, u, wpad[t])
+                X[t + 1] = step(xt, u, wpad[t])
     wall = time.perf_counter() - start
     if not np.all(np.isfinite(X)) or not np.all(np.isfinite(U)):
         bad_x = int(np.argmax(~np.all(np.isfinite(X), axis=1)))

@@ -19,6 +19,7 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
+from ._casadi import DropsBuffers, buffered
 from ._validate import OrrcValueError, as_array, as_int, as_square, check_evaluates
 
 
@@ -113,7 +114,7 @@ class LinearSystem(System):
         return f"LinearSystem(n={self.n}, m={self.m}, name={self.name!r})"
 
 
-class NonlinearSystem(System):
+class NonlinearSystem(DropsBuffers, System):
     """x_{t+1} = f(x_t, u_t, w_t) with ``f`` written in CasADi operations.
 
     ``f(x, u, w)`` receives CasADi column vectors (``x`` of length ``n_states``,
@@ -145,11 +146,18 @@ class NonlinearSystem(System):
     def step(self, x, u, w) -> np.ndarray:
         """One step of the dynamics (validated); raises if the result is not finite."""
         x, u, w = self.check_step_args(x, u, w)
-        out = np.asarray(self.function(x, u, w)).ravel()
+        out = self._step(x, u, w)
         if not np.all(np.isfinite(out)):
             raise FloatingPointError(
                 f"{self.name}: f(x, u, w) is not finite at x={x}, u={u}, w={w} (the state diverged)")
         return out
+
+    def _step(self, x, u, w) -> np.ndarray:
+        """One step for arguments already checked (the simulator's hot path; it checks the states after
+        the run), evaluated on numpy buffers (:mod:`orrc._casadi`: 2 µs instead of 35 µs per call)."""
+        call = buffered(self, "f", lambda: self.function)
+        call(x, u, w)
+        return call.res[0].copy()
 
     def linearize(self, x=None, u=None):
         """Jacobians (A, B) of f at (x, u, w=0), default the origin: the local linear model."""

@@ -39,3 +39,19 @@ def lemma2_coefficients(M, H, a, gamma_bar, b):
 def running_regret(costs, w, gamma):
     """R^p_t(γ) = Σ_{s<t} c_s - γ Σ_{s<t} ‖w_s‖² (Eq. 2) for t = 1..T, with w of T rows."""
     return np.cumsum(costs) - gamma * np.cumsum(np.sum(np.asarray(w) ** 2, axis=1))
+
+
+# -- Appendix D (no disturbance preview) ----------------------------------------------------------
+def Gamma_WV(M, alpha_lo, alpha_hi_W):
+    """Lemma 6: Γ_{W,V} = ᾱ_W²/((M-1)α_lo) - α_lo."""
+    return alpha_hi_W ** 2 / ((M - 1) * alpha_lo) - alpha_lo
+
+
+def Gamma_WV_gamma(M, alpha_lo, alpha_hi_W, gamma_bar_W):
+    """Lemma 6: Γ^γ_{W,V} = γ̄_W (ᾱ_W/((M-1)α_lo) + 1)."""
+    return gamma_bar_W * (alpha_hi_W / ((M - 1) * alpha_lo) + 1)
+
+
+def gamma_c_W(a, alpha_lo, alpha_hi_W, gamma_bar_W):
+    """Theorem 3: γ_{c,W} = γ̄_W/(1-a) (α_lo/ᾱ_W + 1)."""
+    return gamma_bar_W / (1 - a) * (alpha_lo / alpha_hi_W + 1)

@@ -18,6 +18,7 @@ import pytest
 import orrc
 import orrc.viz  # the plotting functions (not loaded by `import orrc`)
 from bad_input import assert_bad_input, case, params
+from conftest import FORCED_FAILURE
 from orrc import certify, checks, disturbances as dist, examples as exs, theory as th
 
 E = orrc.OrrcValueError
@@ -75,7 +76,7 @@ def overflowed_traj():
 def failed_traj():
     """A run whose solves all fail (max_failures=None): the checks must refuse it."""
     ex = pend()
-    rhc = orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds, solver_options={"ipopt.max_iter": 1},
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds, solver_options=FORCED_FAILURE,
                           max_failures=None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", orrc.SolverWarning)
@@ -480,13 +481,22 @@ def test_bad_input_gets_a_clear_error_naming_the_argument(call, exc, words):
     assert_bad_input(call, exc, words)
 
 
+def _all_cases():
+    """This table and those of the other bad-input modules (tests/test_bad_input_<topic>.py)."""
+    import importlib
+    from pathlib import Path
+
+    cases = list(CASES)
+    for path in sorted(Path(__file__).parent.glob("test_bad_input_*.py")):
+        cases += list(getattr(importlib.import_module(path.stem), "CASES", []))
+    return cases
+
+
 def test_the_table_covers_the_public_api():
     from test_bad_input_unknown import CASES as CASES_UNKNOWN   # the unknown-system half (issue 12)
 
     assert len(CASES) >= 100
-    from test_bad_input_baselines import CASES as BASELINE_CASES
-
-    ids = " ".join(c.id for c in CASES + BASELINE_CASES + CASES_UNKNOWN)
+    ids = " ".join(c.id for c in _all_cases() + CASES_UNKNOWN)
     public = (orrc.__all__ + orrc.theory.__all__ + orrc.certify.__all__ + orrc.checks.__all__
               + orrc.estimation.__all__
               + ["zero", "constant", "sinusoid", "uniform_ball", "uniform_box", "gaussian", "bursts", "make", "energy"]
@@ -494,6 +504,7 @@ def test_the_table_covers_the_public_api():
     untested = {"OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning", "System",
                 "StageCost", "Controller", "Observation", "Decision", "Plan", "Trajectory", "disturbances", "examples",
                 "Attenuation", "Lemma1Margins", "Regret", "Lipschitz", "Theorem2Bound", "Estimate", "LinearEstimate",
-                "EDMDModel", "RankWarning", "Transitions"}  # exceptions, base classes and records: nothing to call with bad input
+                "EDMDModel", "RankWarning", "Transitions", "MinMaxConstants"}  # exceptions, base classes and records:
+    # nothing to call with bad input
     missing = [name for name in public if name not in untested and name not in ids]
     assert not missing, f"no bad-input case for {missing}"

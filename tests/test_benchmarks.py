@@ -1,15 +1,18 @@
 """Smoke test of the performance benchmarks (``make bench``) at tiny sizes.
 
-Correctness, not timing: each benchmark still runs, its two computations agree
-(the pendulum: orrc and python-control's ``solve_ocp`` reach the same optimum,
-judged by an independent rollout of the cost; the LQ path: ``orrc.simulate`` and
-the bare numpy loop produce the same trajectory), and the checks that enforce this
-do fail when the answers differ.
+Correctness, not timing: each benchmark still runs, its computations agree
+(the pendulum: orrc's SQP, its IPOPT and python-control's ``solve_ocp`` reach the same
+optimum, judged by an independent rollout of the cost; the closed loops: SQP's run is
+IPOPT's; the LQ path: ``orrc.simulate`` and the bare numpy loop produce the same
+trajectory; the min-max problem: the exact method and scenario exchange reach the same value),
+and the checks that enforce this do fail when the answers differ.
 """
 import numpy as np
 import pytest
 
-from benchmarks import comparison, lq_path, pendulum, run
+import orrc
+
+from benchmarks import closed_loop, comparison, lq_path, minmax, pendulum, run
 from benchmarks.common import CheckFailed
 
 
@@ -21,7 +24,10 @@ def test_pendulum_orrc_and_solve_ocp_reach_the_same_optimum():
         d = r.data
         assert np.isfinite(d["J_orrc"]) and d["J_orrc"] > 0
         assert abs(d["J_peer"] - d["J_orrc"]) <= 1e-4 * d["J_orrc"]
-        assert d["t_orrc"] > 0 and d["t_peer"] > 0
+        assert abs(d["J_ipopt"] - d["J_orrc"]) <= 1e-6 * d["J_orrc"]  # SQP and IPOPT: the same optimum
+        assert d["t_orrc"] > 0 and d["t_peer"] > 0 and d["t_ipopt"] > 0
+    warm = [r for r in rows if "warm vs cold" in r.benchmark]
+    assert len(warm) == 2 and all(r.data["it_warm"] >= 1 and r.data["it_cold"] >= 1 for r in warm)
 
 
 def test_pendulum_referee_is_independent_and_catches_a_wrong_answer(monkeypatch):
@@ -61,11 +67,61 @@ def test_lq_path_check_catches_a_different_law(monkeypatch):
         lq_path.run(T=30, M=6, reps=1)
 
 
+def test_closed_loops_of_sqp_and_ipopt_agree_and_say_which_solver_took_each_step():
+    rows = closed_loop.run(T=10, reps=1, reps_ipopt=1)
+    runs = [r for r in rows if "warm vs cold" not in r.benchmark]
+    assert [r.benchmark.split(", ")[-1] for r in runs] == ["pendulum", "Van der Pol", "non-convex time-varying cost"]
+    assert [r.ok is not None for r in runs] == [True, False, False]  # the target is the pendulum's
+    for r in runs:
+        assert r.data["n_sqp"] + r.data["n_ipopt"] == 10 and abs(r.data["gap"]) <= 1e-6
+        assert "steps by solver: SQP" in r.check
+
+
+def test_closed_loop_check_catches_a_different_run(monkeypatch):
+    real = orrc.simulate
+
+    def shifted(*args, **kw):
+        traj = real(*args, **kw)
+        if args[1].solver == "ipopt":
+            traj.costs = traj.costs * (1 + 1e-5)
+        return traj
+
+    monkeypatch.setattr(orrc, "simulate", shifted)
+    with pytest.raises(CheckFailed, match="is not IPOPT's"):
+        closed_loop.run(T=5, reps=1, reps_ipopt=1)
+
+
 def test_run_quick_prints_a_table_and_succeeds(capsys):
     assert run.main(["--quick"]) == 0
     out = capsys.readouterr().out
     assert "| benchmark |" in out and "pendulum M=5" in out and "LQ path T=40" in out
+    assert "closed loop T=12" in out and "min-max, linear n=2, M=4" in out and "pendulum min-max M=5" in out
     assert "targets not judged" in out
+
+
+def test_minmax_benchmark_runs_and_its_methods_agree():
+    rows = minmax.run(Ms=(3, 4), reps=1, M_pendulum=4, T=3)
+    lin = [r for r in rows if r.benchmark.startswith("min-max, linear")]
+    assert [r.data["M"] for r in lin] == [3, 4]
+    for r in lin:
+        assert r.data["gap"] <= 1e-6 and r.data["scenarios"] <= r.data["sequences"]
+        assert r.data["vertex_sequences"] == 2 ** (2 * r.data["M"]) and r.data["t_exact"] > 0
+    step = next(r for r in rows if "closed-loop step" in r.benchmark)
+    assert step.ok is not None and step.data["t_step"] > 0 and step.data["iterations"] <= minmax.PENDULUM_MAX_ITERATIONS
+
+
+def test_minmax_benchmark_catches_an_exchange_that_disagrees(monkeypatch):
+    real = orrc.MinMaxRHC.plan
+
+    def off(self, x, *a, **k):
+        p = real(self, x, *a, **k)
+        if self.method == "exchange":
+            p.value *= 1.01
+        return p
+
+    monkeypatch.setattr(orrc.MinMaxRHC, "plan", off)
+    with pytest.raises(CheckFailed, match="values differ"):
+        minmax.run(Ms=(3,), reps=1, M_pendulum=4, T=2)
 
 
 def test_comparison_table_has_every_controller_and_the_clairvoyant_is_never_beaten(capsys):

@@ -1,6 +1,7 @@
 """orrc.certify: certified constants bound V_M (tightly), γ_c is the best on the Pareto curve,
 and the worst-case attenuation agrees with independent computations."""
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -9,6 +10,7 @@ from scipy import linalg
 import orrc
 from orrc import certify, theory
 from conftest import batch_optimum, random_lq_problem
+import numerics
 import paper
 
 
@@ -39,7 +41,9 @@ def test_certified_pair_bounds_V_M_and_is_tight(seed):
     H = c.info["H"]
     D = np.diag(np.r_[np.full(n, c.alpha_hi), np.full(c.M * n, c.gamma_bar)])
     lam, vec = np.linalg.eigh(H - D)
-    assert lam[-1] <= 1e-9 * np.abs(H).max() and lam[-1] >= -1e-7 * np.abs(H).max()
+    # on the curve λ_max(H - D) = 0; computed, it is off by the eigensolver's error for H - D plus
+    # the effect of the rounding in the curve's own ᾱ (bounded the same way, by that of H)
+    assert abs(lam[-1]) <= numerics.eigvalsh_error(H - D) + numerics.eigvalsh_error(H)
     z = vec[:, -1]
     x, W = z[:n], z[n:].reshape(c.M, n)
     V = condensed_value(A, B, Q, R, c.M, x, W)
@@ -60,16 +64,27 @@ def test_pareto_curve_is_admissible_tight_and_decreasing():
     H, n = c.info["H"], sysm.n
     gbs, ahs = c.pareto[:, 0], c.pareto[:, 1]
     assert np.all(np.diff(gbs) > 0) and np.all(np.diff(ahs) <= 1e-9 * ahs[:-1])
+    x_block = np.arange(len(H)) < n                       # the diagonal entries ᾱ multiplies
     for gb, ah in c.pareto[::6]:
         D = np.diag(np.r_[np.full(n, ah), np.full(8 * n, gb)])
-        assert np.linalg.eigvalsh(D - H)[0] >= -1e-8 * ah
-        # independent: the smallest admissible ᾱ by bisection on the PSD test
+        lam, vec = np.linalg.eigh(D - H)
+        # admissible: on the curve λ_min(D - H) = 0 exactly; computed, it is off by at most the
+        # eigensolver's error (numerics.eigvalsh_error) plus that of the curve's own ᾱ, whose
+        # effect on λ_min is bounded the same way by the Schur-complement route (‖H‖·N·eps)
+        assert lam[0] >= -(numerics.eigvalsh_error(D - H) + numerics.eigvalsh_error(H))
+        # independent: the smallest admissible ᾱ by bisection on the PSD test λ_min(D - H) >= 0.
+        # Near the root λ_min moves with ᾱ at the rate ‖v_x‖² (v its eigenvector), which is tiny
+        # where the curve is steep (γ̄ just above λ_max(H_ww): ‖v_x‖² ~ 1e-11 at the first point,
+        # where D - H has entries ~5e5), so the eigensolver's error N·eps·‖D - H‖ puts the
+        # bisection's root anywhere within numerics.sign_root_error of it (~1e2 there; 1e-14 to
+        # 1e-9 relative at the other points), whatever BLAS kernel computes it. Plus the bracket.
         lo_, hi_ = 0.0, ah * 2 + 1
         for _ in range(60):
             mid = 0.5 * (lo_ + hi_)
             D[:n, :n] = mid * np.eye(n)
             lo_, hi_ = (lo_, mid) if np.linalg.eigvalsh(D - H)[0] >= 0 else (mid, hi_)
-        assert ah == pytest.approx(hi_, rel=1e-6)
+        D[:n, :n] = ah * np.eye(n)
+        assert abs(ah - hi_) <= numerics.sign_root_error(D - H, vec[:, 0], x_block) + (hi_ - lo_)
 
 
 @pytest.mark.parametrize("seed", [21, 22, 23, 24])
@@ -90,9 +105,12 @@ def test_certified_gamma_c_is_the_best_on_a_fine_pareto_grid(seed):
                 a = paper.a_min(MM, c.alpha_lo, ah)
                 best = min(best, paper.gamma_c(MM, a, c.alpha_lo, ah, gb))
         assert c.gamma_c <= 1.02 * best
-        # and it is attained: the chosen ᾱ is the curve's value at the chosen γ̄ (computed here)
+        # and it is attained: the chosen ᾱ is the curve's value at the chosen γ̄ (computed here).
+        # Both routes solve with γ̄I - H_ww, whose condition number is at most (2‖H‖ + d)/d
+        # (d = γ̄ - λ_max(H_ww)), then take λ_max: each is accurate to N·eps·(3 + 2‖H‖/d) relative
         ah = np.linalg.eigvalsh(Hxx + Hxw @ np.linalg.solve(c.gamma_bar * np.eye(len(Hww)) - Hww, Hxw.T))[-1]
-        assert c.alpha_hi == pytest.approx(ah, rel=1e-9)
+        d = c.gamma_bar - np.linalg.eigvalsh(Hww)[-1]
+        assert c.alpha_hi == pytest.approx(ah, rel=2 * len(H) * numerics.EPS * (3 + 2 * np.linalg.norm(H, 2) / d))
 
 
 def test_no_admissible_pair_gives_inf_with_a_reason():
@@ -104,7 +122,7 @@ def test_no_admissible_pair_gives_inf_with_a_reason():
     # still an admissible pair for Lemma 1 (which holds for every M >= 2)
     H, n = below.info["H"], ex.system.n
     D = np.diag(np.r_[np.full(n, below.alpha_hi), np.full((M_ok - 1) * n, below.gamma_bar)])
-    assert np.linalg.eigvalsh(D - H)[0] >= -1e-8 * below.alpha_hi
+    assert np.linalg.eigvalsh(D - H)[0] >= -(numerics.eigvalsh_error(D - H) + numerics.eigvalsh_error(H))
     assert certify.lq_constants(ex.system, ex.cost, M_ok).admissible
     singular = certify.lq_constants(ex.system, orrc.QuadraticCost(np.zeros((1, 1)), np.eye(1)), 5)
     assert singular.gamma_c == math.inf and "singular" in singular.reason
@@ -221,7 +239,13 @@ def test_worst_case_attenuation_against_impulse_responses(seed, kind):
     lam, vec = linalg.eigh(gram)
     assert res.gamma == pytest.approx(lam[-1], rel=1e-9)
     assert res.w.shape == (T, sysm.n) and np.sum(res.w ** 2) == pytest.approx(1.0)
-    assert abs(vec[:, -1] @ res.w.ravel()) == pytest.approx(1.0, abs=1e-6)
+    # the same top eigenvector up to sign: by Davis-Kahan each computation is within an angle
+    # θ <= err/gap of the true one (err = numerics.eigvalsh_error, gap = λ_1 - λ_2 > 0, checked),
+    # so 1 - |cos| <= (2θ)²/2, plus the rounding of the dot product (N·eps)
+    gap = lam[-1] - lam[-2]
+    assert gap > 1e3 * numerics.eigvalsh_error(gram)
+    theta = 2 * numerics.eigvalsh_error(gram) / gap
+    assert abs(vec[:, -1] @ res.w.ravel()) == pytest.approx(1.0, abs=theta ** 2 / 2 + len(gram) * numerics.EPS)
     # the adversary made explicit: simulating it gives R^p_T(γ*) = 0, any other w gives <= 0
     tr = orrc.simulate(sysm, ctrl, np.zeros(sysm.n), res.w, T)
     assert orrc.attenuation_regret(tr, res.gamma) == pytest.approx(0.0, abs=1e-9 * res.gamma)
@@ -252,19 +276,26 @@ def frequency_sweep_peak(A, B, C, D, points=2000):
     return best
 
 
+# python-control's H∞ bisection stops when its bracket is within HINF_TOL relative of the norm,
+# so γ = norm² is within (1 + tol)² - 1 ≈ 2·tol; doubled for the rounding in its test for
+# imaginary-axis eigenvalues (measured: up to 1.2e-9 relative in γ over the OpenBLAS kernels).
+HINF_TOL = 1e-9
+HINF_REL = 4 * HINF_TOL
+
+
 def test_lqr_finite_T_increases_to_the_hinf_limit():
     ex = orrc.examples.double_integrator()
     lqr = orrc.LQR(ex.system, ex.cost)
     values = [certify.worst_case_attenuation(ex.system, lqr, T).gamma for T in (10, 40, 160, 400)]
-    limit = certify.worst_case_attenuation_limit(ex.system, lqr)
+    limit = certify.worst_case_attenuation_limit(ex.system, lqr, tol=HINF_TOL)
     assert np.all(np.diff(values) > 0)
-    assert values[-1] <= limit.gamma * (1 + 1e-9)
+    assert values[-1] <= limit.gamma * (1 + HINF_REL)
     assert values[-1] >= 0.99 * limit.gamma
     # independent: the closed loop built here, its frequency response on a grid
     A, B, K = ex.system.A, ex.system.B, lqr.K
     Qh, Rh = linalg.sqrtm(ex.cost.Q).real, linalg.sqrtm(ex.cost.R).real
     peak = frequency_sweep_peak(A - B @ K, np.eye(2), np.vstack([Qh, -Rh @ K]), np.zeros((3, 2)))
-    assert peak <= limit.gamma * (1 + 1e-8) and peak >= limit.gamma * (1 - 1e-3)
+    assert peak <= limit.gamma * (1 + HINF_REL) and peak >= limit.gamma * (1 - 1e-3)
     assert limit.start == "stationary"
     assert certify.worst_case_attenuation_limit(ex.system, lqr, start="cold").gamma == limit.gamma
 
@@ -272,20 +303,45 @@ def test_lqr_finite_T_increases_to_the_hinf_limit():
 def test_preview_limit_stationary_and_cold_start():
     ex = orrc.examples.scalar_unstable()
     ctrl = orrc.PreviewRHC(ex.system, ex.cost, 3)
-    stat = certify.worst_case_attenuation_limit(ex.system, ctrl)
+    stat = certify.worst_case_attenuation_limit(ex.system, ctrl, tol=HINF_TOL)
     cold = certify.worst_case_attenuation_limit(ex.system, ctrl, start="cold")
     A, B, C, D = (np.asarray(m) for m in (stat.closed_loop.A, stat.closed_loop.B,
                                           stat.closed_loop.C, stat.closed_loop.D))
     peak = frequency_sweep_peak(A, B, C, D)
-    assert peak <= stat.gamma * (1 + 1e-8) and peak >= stat.gamma * (1 - 1e-4)
-    values = [certify.worst_case_attenuation(ex.system, ctrl, T).gamma for T in (5, 20, 80, 200)]
-    assert np.all(np.diff(values) >= -1e-12 * values[-1])
+    assert peak <= stat.gamma * (1 + HINF_REL) and peak >= stat.gamma * (1 - 1e-4)
+    res = [certify.worst_case_attenuation(ex.system, ctrl, T) for T in (5, 20, 80, 200)]
+    values = [r.gamma for r in res]
+    # non-decreasing in T up to rounding: γ = σ_max(G)², and the SVD is backward stable, so σ_max
+    # is off by max(G.shape)·eps·σ_max at most and γ by twice that, relative
+    err = np.array([2 * max(r.G.shape) * numerics.EPS * r.gamma for r in res])
+    assert np.all(np.diff(values) >= -(err[1:] + err[:-1]))
     # the finite-T values (x_0 = 0, preview from t = 0) converge to the cold-start level,
     # which exceeds the stationary H∞ level: the worst w sits at the start
     assert values[-1] == pytest.approx(cold.gamma, rel=1e-7)
     assert cold.gamma > stat.gamma * 1.05
     w = certify.worst_case_attenuation(ex.system, ctrl, 80).w
     assert np.sum(w[:10] ** 2) > 0.9
+
+
+def test_a_loop_on_the_stability_boundary_to_working_precision_has_no_finite_limit():
+    """x⁺ = (1 - δ)x + w with zero input: γ_∞ = 1/δ² (the gain at ω = 0). python-control's H∞
+    routine cannot resolve 1 - ρ <= 1e-8 (it returns inf, or 5e23 for 1e16); below that the loop
+    is reported as not stable, and near it the lost accuracy is warned about."""
+    cost = orrc.QuadraticCost([[1.0]], [[1.0]])
+
+    def limit(delta):
+        return certify.worst_case_attenuation_limit(orrc.LinearSystem([[1 - delta]], [[1.0]]),
+                                                    orrc.ZeroInput(1, cost))
+    for delta in (3e-9, 1e-8):
+        lim = limit(delta)
+        assert lim.gamma == math.inf and "stability boundary" in lim.reason
+    with pytest.warns(orrc.SolverWarning, match="resolved only to about"):
+        lim = limit(1e-6)
+    assert lim.gamma == pytest.approx(1e12, rel=2 * (1e-8 / 1e-6) ** 2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        lim = limit(1e-2)
+    assert lim.gamma == pytest.approx(1e4, rel=4e-9)          # 2·tol (tol = 1e-9 on the norm), doubled
 
 
 def test_unstable_loop_has_no_finite_limit_and_errors():

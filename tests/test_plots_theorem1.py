@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 import orrc
 from orrc import certify, checks, theory
 from orrc.viz import explore, theory_plots
+import numerics
 import paper
 
 
@@ -110,10 +111,10 @@ def test_regret_growth_draws_eq2_and_the_theorem1_ceiling(scalar):
     fig = theory_plots.regret_growth(margin.t, R, ceiling=margin.bound, ylim=(-5, 5))
     ax = fig.axes[0]
     lines = {ln.get_label(): ln for ln in ax.get_lines()}
-    np.testing.assert_allclose(lines["γ = 1"].get_ydata(), paper.running_regret(traj.costs, traj.w, 1.0),
-                               rtol=1e-12)
-    np.testing.assert_allclose(lines["γ_c"].get_ydata(), paper.running_regret(traj.costs, traj.w, gamma),
-                               rtol=1e-12)
+    numerics.assert_within(lines["γ = 1"].get_ydata(), paper.running_regret(traj.costs, traj.w, 1.0),
+                           numerics.running_regret_error(traj.costs, traj.w, 1.0))
+    numerics.assert_within(lines["γ_c"].get_ydata(), paper.running_regret(traj.costs, traj.w, gamma),
+                           numerics.running_regret_error(traj.costs, traj.w, gamma))
     ceiling = lines["Theorem 1 ceiling $C_t$"].get_ydata()
     assert np.all(ceiling >= lines["γ_c"].get_ydata())          # Theorem 1 holds along the run
     assert ax.get_ylim() == (-5.0, 5.0)
@@ -176,7 +177,8 @@ def test_theorem1_frame_draws_gamma_c_and_the_ceiling(scalar):
     assert marker.get_xdata()[0] == a and marker.get_ydata()[0] == pytest.approx(gc, rel=1e-12)
     lines = {ln.get_label(): ln for ln in ax2.get_lines()}
     R = [ln for k, ln in lines.items() if k.startswith("$R^p_t")][0]
-    np.testing.assert_allclose(R.get_ydata(), paper.running_regret(traj.costs, traj.w, gc), rtol=1e-10)
+    numerics.assert_within(R.get_ydata(), paper.running_regret(traj.costs, traj.w, gc),
+                           numerics.running_regret_error(traj.costs, traj.w, gc))
     np.testing.assert_allclose(lines["Theorem 1 ceiling $C_t$"].get_ydata(), margin.bound)
     assert ax2.get_ylim() == (-100.0, 10.0)
     assert "smallest margin" in fig._suptitle.get_text()
@@ -241,8 +243,10 @@ def test_theorem1_frame_serves_the_explorer(scalar):
 def test_attenuation_vs_T_draws_the_finite_levels_and_their_limits(scalar):
     ex, _, _, rhc, _ = scalar
     Ts = [2, 5, 10, 20]
-    fin = [certify.worst_case_attenuation(ex.system, rhc, T).gamma for T in Ts]
-    cold = certify.worst_case_attenuation_limit(ex.system, rhc, start="cold").gamma
+    res = [certify.worst_case_attenuation(ex.system, rhc, T) for T in Ts]
+    fin = [r.gamma for r in res]
+    tol = 1e-9
+    cold = certify.worst_case_attenuation_limit(ex.system, rhc, start="cold", tol=tol).gamma
     stat = certify.worst_case_attenuation_limit(ex.system, rhc).gamma
     fig = theory_plots.attenuation_vs_T(Ts, {"RHC": fin}, {"cold": cold, "stationary γ∞": stat}, title="x")
     ax = fig.axes[0]
@@ -252,8 +256,11 @@ def test_attenuation_vs_T_draws_the_finite_levels_and_their_limits(scalar):
     assert list(lines["cold"].get_ydata()) == [cold, cold]
     assert lines["stationary γ∞"].get_linestyle() == "--"
     assert ax.get_xscale() == "log"
-    # the finite-T level never exceeds its T → ∞ cold-start limit (it grows with T)
-    assert np.all(np.diff(fin) >= -1e-12) and fin[-1] <= cold * (1 + 1e-9)
+    # the finite-T level never exceeds its T → ∞ cold-start limit (it grows with T), up to
+    # rounding: γ = σ_max(G)² from a backward-stable SVD is off by 2·max(G.shape)·eps relative,
+    # and the limit is a root found to xtol = tol·(bracket end <= 2γ), so within 2·tol relative
+    err = np.array([2 * max(r.G.shape) * np.finfo(float).eps * r.gamma for r in res])
+    assert np.all(np.diff(fin) >= -(err[1:] + err[:-1])) and fin[-1] <= cold * (1 + 2 * tol) + err[-1]
 
 
 @pytest.mark.parametrize("Ts, levels, limits, match", [

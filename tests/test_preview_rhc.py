@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 import orrc
-from conftest import batch_optimum, random_lq
+from conftest import FORCED_FAILURE, batch_optimum, random_lq
+import numerics
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -16,10 +17,14 @@ def test_lq_plan_is_the_exact_M_step_optimum(seed):
     rhc = orrc.PreviewRHC(orrc.LinearSystem(A, B), orrc.QuadraticCost(Q, R), M)
     x, W = rng.standard_normal(n), rng.standard_normal((M, n))
     plan = rhc.plan(x, W)
-    U_ref, V_ref = batch_optimum(A, B, Q, R, M, x, W)
+    U_ref, V_ref, kappa = batch_optimum(A, B, Q, R, M, x, W, cond=True)
     assert rhc.solver == "lq"
-    np.testing.assert_allclose(plan.inputs, U_ref, rtol=1e-8, atol=1e-9)
-    assert plan.value == pytest.approx(V_ref, rel=1e-9, abs=1e-12)
+    # two stable solutions of one problem agree to its conditioning: each input sequence is off by
+    # about eps·κ(K)·‖U‖ (K the condensed Hessian; measured up to 36·eps·κ over 3000 draws), the
+    # values by less (V is stationary in U). 16·(M·m)·eps·κ covers it for M·m >= 1 with room.
+    tol = 16 * M * m * numerics.EPS * kappa
+    np.testing.assert_allclose(plan.inputs, U_ref, rtol=0, atol=tol * np.abs(U_ref).max())
+    assert plan.value == pytest.approx(V_ref, rel=tol)
 
 
 def test_lq_value_is_the_quadratic_form_used_in_closed_loop(rng):
@@ -130,8 +135,7 @@ def test_solver_failure_is_reported_warned_and_falls_back():
     """A failed direct plan() reports success=False with the status and warns once, naming what the
     plan holds. (The closed loop's failure policy: tests/test_solver_failures.py.)"""
     ex = orrc.examples.inverted_pendulum()
-    rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds,
-                          solver_options={"ipopt.max_iter": 1})
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds, solver_options=FORCED_FAILURE)
     with pytest.warns(orrc.SolverWarning, match="did not succeed.*the solver's last iterate"):
         plan = rhc.plan(np.array([0.5, 0.0]), np.zeros((10, 2)))
     assert not plan.success and "Maximum_Iterations" in plan.status

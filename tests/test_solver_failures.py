@@ -1,7 +1,10 @@
 """Solver faults stay contained: the escalation policy of orrc.controllers.failures, one SolverWarning
 per run, failed steps marked in the trajectory, and the checks refusing them.
 
-The forced-failure run of issue 9: the pendulum (M = 20) with ``ipopt.max_iter = 1`` over T = 200.
+The forced-failure run of issue 9: the pendulum (M = 20) over T = 200 with every solver limited to one
+iteration: on the default NLP path (SQP, then IPOPT) ``FORCED_FAILURE`` (sqpmethod.max_iter = 1,
+ipopt.max_iter = 1), and with ``solver="ipopt"`` alone ``ipopt.max_iter = 1``, as in issue 9. The semantics
+are the same for both: the ladder's rungs are tried, the step falls back, the run stops or warns once.
 """
 import warnings
 
@@ -9,10 +12,18 @@ import numpy as np
 import pytest
 
 import orrc
+from conftest import FORCED_FAILURE
 from orrc.controllers.failures import LAST_ITERATE, SHIFTED, FailureLadder
 from orrc.solvers import Plan
 
 T = 200
+
+#: (solver, options that make it fail, the status of a failed cold step)
+FORCED = {
+    "nlp": ("nlp", FORCED_FAILURE, "SQP cold start: Maximum_Iterations_Exceeded; IPOPT cold start: "
+                                   "Maximum_Iterations_Exceeded"),
+    "ipopt": ("ipopt", {"ipopt.max_iter": 1}, "Maximum_Iterations_Exceeded"),
+}
 
 
 @pytest.fixture(scope="module")
@@ -22,9 +33,10 @@ def pendulum():
     return ex, w
 
 
-def _forced(ex, M=20, **kw):
-    return orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds,
-                           solver_options={"ipopt.max_iter": 1}, **kw)
+def _forced(ex, M=20, path="nlp", **kw):
+    solver, options, _ = FORCED[path]
+    return orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds, solver=solver,
+                           solver_options=options, **kw)
 
 
 def _run(*args, **kwargs):
@@ -35,18 +47,22 @@ def _run(*args, **kwargs):
     return traj, [r for r in rec if issubclass(r.category, orrc.SolverWarning)], rec
 
 
-def test_forced_failure_run_stops_with_a_solver_error_naming_the_step_and_what_to_try(pendulum):
+@pytest.mark.parametrize("path", sorted(FORCED))
+def test_forced_failure_run_stops_with_a_solver_error_naming_the_step_and_what_to_try(pendulum, path):
     ex, w = pendulum
     with warnings.catch_warnings(record=True) as rec:
         warnings.simplefilter("always")
         with pytest.raises(orrc.SolverError) as info:
-            orrc.simulate(ex.system, _forced(ex), ex.x0, w, T)
+            orrc.simulate(ex.system, _forced(ex, path=path), ex.x0, w, T)
     err = info.value
     assert isinstance(err, RuntimeError)
-    assert err.step == 2 and err.statuses == ["Maximum_Iterations_Exceeded"] * 3  # the default max_failures = 3
+    assert err.step == 2 and err.statuses == [FORCED[path][2]] * 3  # the default max_failures = 3
     msg = str(err)
-    for words in ("t=2", "3 consecutive", "t=0..2", "Maximum_Iterations_Exceeded", "ipopt.max_iter", "max_failures=None"):
+    for words in ("t=2", "3 consecutive", "t=0..2", "Maximum_Iterations_Exceeded", "ipopt.max_iter",
+                  "sqpmethod.max_iter", "max_failures=None"):
         assert words in msg
+    if path == "nlp":  # the message names the rungs each step tried
+        assert "each step tried SQP cold start, then IPOPT cold start" in msg
     assert not [r for r in rec if issubclass(r.category, orrc.SolverWarning)]  # the error is the report
     part = err.trajectory  # the run up to the step before, its failed steps marked
     assert isinstance(part, orrc.Trajectory) and part.T == 2 and part.x.shape == (3, 2)
@@ -55,12 +71,13 @@ def test_forced_failure_run_stops_with_a_solver_error_naming_the_step_and_what_t
     assert part.fallback == [LAST_ITERATE, LAST_ITERATE]
 
 
-def test_forced_failure_run_without_a_stop_ends_with_exactly_one_solver_warning(pendulum):
+@pytest.mark.parametrize("path", sorted(FORCED))
+def test_forced_failure_run_without_a_stop_ends_with_exactly_one_solver_warning(pendulum, path):
     ex, w = pendulum
     good = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 20, input_bounds=ex.input_bounds),
                          ex.x0, w, T)
     assert good.n_failures == 0 and good.value_valid.all()
-    traj, solver_warnings, _ = _run(ex.system, _forced(ex, max_failures=None), ex.x0, w, T)
+    traj, solver_warnings, _ = _run(ex.system, _forced(ex, path=path, max_failures=None), ex.x0, w, T)
     assert len(solver_warnings) == 1  # not one per step, and a SolverWarning, not a RuntimeWarning
     msg = str(solver_warnings[0].message)
     assert f"{T} of {T} steps" in msg and f"t = 0-{T - 1}" in msg and "Maximum_Iterations_Exceeded" in msg
@@ -68,6 +85,7 @@ def test_forced_failure_run_without_a_stop_ends_with_exactly_one_solver_warning(
     assert traj.n_failures == T and not traj.success.any()
     assert np.isnan(traj.values).all() and not traj.value_valid.any()
     assert traj.fallback == [LAST_ITERATE] * T
+    assert traj.solver == ["ipopt"] * T  # the last solver tried: its iterate is what was applied
     # no compounding: every step starts cold from the measured state (there is no successful plan to
     # warm-start from), so no failed plan is replayed open loop (before the fix: cost 642,615, |θ| 34 rad)
     assert np.abs(traj.x[:, 0]).max() < 1.0 and traj.costs.sum() < 2 * good.costs.sum()
@@ -84,16 +102,16 @@ class _Failing:
     """Make the NLP solves of ``rhc`` report failure at chosen steps (``steps``), for every rung
     (``rung=None``) or only for the warm-started one (``rung="warm"``); records the guesses."""
 
-    def __init__(self, rhc, steps, rung=None):
-        self.rhc, self.steps, self.rung = rhc, set(steps), rung
+    def __init__(self, rhc, steps, rung=None, solvers=("sqp", "ipopt")):
+        self.rhc, self.steps, self.rung, self.solvers = rhc, set(steps), rung, solvers
         self.t, self.guesses, self.plans = None, {}, {}
         real_solve, real_control = rhc._nlp.solve, rhc.control
 
-        def solve(x, W, P, guess_U=None, guess_X=None):
-            plan = real_solve(x, W, P, guess_U, guess_X)
+        def solve(x, W, P, guess_U=None, guess_X=None, solver=None, theta=None):
+            plan = real_solve(x, W, P, guess_U, guess_X, solver=solver, theta=theta)
             self.guesses.setdefault(self.t, []).append(None if guess_U is None else guess_U.copy())
             warm = guess_U is not None
-            if self.t in self.steps and (self.rung is None or warm):
+            if self.t in self.steps and (self.rung is None or warm) and plan.solver in self.solvers:
                 plan.success, plan.status = False, "forced failure"
             elif plan.success:
                 self.plans[self.t] = plan
@@ -112,7 +130,8 @@ def test_an_isolated_failure_is_ridden_out_on_the_previous_plan_shifted(pendulum
     spy = _Failing(rhc, steps=[5])
     traj, solver_warnings, _ = _run(ex.system, rhc, ex.x0, w, 20)
     assert traj.failed_steps.tolist() == [5] and traj.fallback[5] == SHIFTED
-    assert "warm start: forced failure; cold start: forced failure" == traj.status[5]
+    assert traj.status[5] == ("SQP warm start: forced failure; SQP cold start: forced failure; "
+                              "IPOPT warm start: forced failure")
     np.testing.assert_array_equal(traj.u[5], spy.plans[4].inputs[1])  # the plan of t=4, one step on
     # the next warm start is the last SUCCESSFUL plan (t=4) shifted by two, not the failed iterate
     np.testing.assert_array_equal(spy.guesses[6][0][:8], spy.plans[4].inputs[2:])
@@ -129,8 +148,41 @@ def test_a_cold_retry_rescues_a_bad_warm_start_and_is_no_failure(pendulum):
     traj, solver_warnings, _ = _run(ex.system, rhc, ex.x0, w, 12)
     assert traj.n_failures == 0 and not solver_warnings
     assert [g is None for g in spy.guesses[4]] == [False, True]  # warm start tried, then the cold retry
-    assert traj.status[4] == "cold start: Solve_Succeeded (after warm start: forced failure)"
-    assert traj.value_valid.all()
+    assert traj.status[4] == "SQP cold start: Solve_Succeeded (after SQP warm start: forced failure)"
+    assert traj.value_valid.all() and traj.solver[4] == "sqp"
+
+
+def test_when_sqp_fails_ipopt_takes_the_step_and_the_trajectory_says_so(pendulum):
+    """The IPOPT rung of the default NLP path: SQP forced to fail at some steps (every SQP rung), IPOPT
+    solves them; no step fails, and Trajectory.solver / status name the solver of each step."""
+    ex, w = pendulum
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds)
+    _Failing(rhc, steps=[0, 4, 5], solvers=("sqp",))
+    traj, solver_warnings, _ = _run(ex.system, rhc, ex.x0, w, 12)
+    assert traj.n_failures == 0 and not solver_warnings and traj.value_valid.all()
+    assert [t for t, s in enumerate(traj.solver) if s == "ipopt"] == [0, 4, 5]
+    assert traj.solver_counts == {"sqp": 9, "ipopt": 3}
+    assert traj.status[0] == "IPOPT cold start: Solve_Succeeded (after SQP cold start: forced failure)"
+    assert traj.status[4] == ("IPOPT warm start: Solve_Succeeded (after SQP warm start: forced failure; "
+                              "SQP cold start: forced failure)")
+    ipopt = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds,
+                                                     solver="ipopt"), ex.x0, w, 12)
+    # the same run as IPOPT alone, up to both solvers' tolerances (1e-8 SQP, 1e-9 IPOPT: see test_sqp.py)
+    np.testing.assert_allclose(traj.u, ipopt.u, rtol=0, atol=1e-6)
+
+
+def test_sqp_limited_to_one_iteration_falls_back_to_ipopt_and_reports_it(pendulum):
+    """The real thing, not a spy: sqpmethod.max_iter = 1 leaves most steps unconverged; IPOPT takes them."""
+    ex, w = pendulum
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 20, input_bounds=ex.input_bounds,
+                          solver_options={"sqpmethod.max_iter": 1})
+    traj, solver_warnings, _ = _run(ex.system, rhc, ex.x0, w, 40)
+    assert traj.n_failures == 0 and not solver_warnings
+    counts = traj.solver_counts
+    assert set(counts) <= {"sqp", "ipopt"} and counts["ipopt"] >= 30
+    for t, s in enumerate(traj.solver):
+        if s == "ipopt":
+            assert traj.status[t].startswith("IPOPT") and "SQP cold start: Maximum_Iterations_Exceeded" in traj.status[t]
 
 
 def test_consecutive_failures_up_to_max_failures_stop_the_run(pendulum):
@@ -139,7 +191,8 @@ def test_consecutive_failures_up_to_max_failures_stop_the_run(pendulum):
     _Failing(rhc, steps=[3, 4])
     with pytest.raises(orrc.SolverError, match=r"stopped at step t=4.*t=3\.\.4; max_failures=2") as info:
         orrc.simulate(ex.system, rhc, ex.x0, w, 20)
-    assert info.value.step == 4 and info.value.statuses == ["warm start: forced failure; cold start: forced failure"] * 2
+    assert info.value.step == 4 and info.value.statuses == [
+        "SQP warm start: forced failure; SQP cold start: forced failure; IPOPT warm start: forced failure"] * 2
     assert info.value.trajectory.success.tolist() == [True, True, True, False]
 
 
@@ -188,8 +241,7 @@ def test_the_ladder_is_the_same_whichever_solver_failed():
 
 def test_clairvoyant_reports_one_failed_solve_as_one_failure(pendulum):
     ex, w = pendulum
-    clair = orrc.Clairvoyant(ex.system, ex.cost, 30, input_bounds=ex.input_bounds,
-                             solver_options={"ipopt.max_iter": 1})
+    clair = orrc.Clairvoyant(ex.system, ex.cost, 30, input_bounds=ex.input_bounds, solver_options=FORCED_FAILURE)
     traj, solver_warnings, _ = _run(ex.system, clair, ex.x0, w, 30)
     assert traj.n_failures == 1 and traj.failed_steps.tolist() == [0] and traj.success[1:].all()
     assert len(solver_warnings) == 1 and "1 of 30 steps (t = 0;" in str(solver_warnings[0].message)
@@ -219,7 +271,8 @@ def test_plan_with_a_warm_start_that_fails_holds_the_shifted_warm_start_and_warn
         warnings.simplefilter("always")
         plan = rhc.plan(ex.x0, np.zeros((10, 2)), warm_start=good)
     assert [r.category for r in rec] == [orrc.SolverWarning] and "the warm start, shifted" in str(rec[0].message)
-    assert plan.status.startswith("warm start: Maximum_Iterations_Exceeded; cold start:")
+    assert plan.status == ("SQP warm start: Maximum_Iterations_Exceeded; SQP cold start: Maximum_Iterations_Exceeded; "
+                           "IPOPT warm start: Maximum_Iterations_Exceeded")
     np.testing.assert_array_equal(plan.inputs[:-1], good.inputs[1:])
 
 

@@ -31,7 +31,11 @@ def constants(draw, above=True, max_M=None):
         M = math.floor(thr) + 1 + draw(st.integers(0, 60))
         if max_M is not None:
             M = min(M, max_M)
-        assume(alpha_hi ** 2 < alpha_lo ** 2 * (M - 1))  # rounding at the boundary, or the cap
+        # above the threshold by more than rounding (the cap may undo it): at ᾱ² = α_lo²(M - 1)
+        # exactly, ε̃ = 0 and a_min = 1, and ᾱ² and α_lo²(M - 1) are each off by a few eps, so a
+        # ratio ≈ √(M - 1) passes the bare test by luck. With the relative margin 1e-9,
+        # ε̃ >= 1e-9·α_lo and 1 - a_min = ε̃/ᾱ >= 1e-9/20, so 1 - a >= 1e-3·(1 - a_min) ≫ eps
+        assume(alpha_hi ** 2 < alpha_lo ** 2 * (M - 1) * (1 - 1e-9))
     else:
         M = draw(st.integers(2, 500))
     return M, alpha_lo, alpha_hi, gamma_bar

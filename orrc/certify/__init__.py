@@ -26,15 +26,20 @@ One module per kind of result:
   from exact CasADi derivatives of the LQ value matrix and law, maximised over a grid of the
   compact set Θ (labelled as such); :func:`sampled_lipschitz`, difference quotients over samples
   for any problem (estimates).
+* :mod:`orrc.certify.minmax` -- :func:`minmax_constants`, the constants ᾱ_W, γ̄_W of Appendix D
+  (no disturbance preview): certified for a linear-quadratic problem without input bounds (a
+  Pareto curve from the nominal plan plus the min-max plan from x = 0), sampled estimates otherwise.
 
 SciPy is imported inside the functions that use it, so that ``import orrc`` does not load it.
 """
 from .attenuation import Attenuation, worst_case_attenuation, worst_case_attenuation_limit
 from .constants import Constants, alpha_hi_floor, lq_constants, smallest_certified_M
+from .minmax import MinMaxConstants, minmax_constants
 from .regret import Regret, worst_case_regret
 from .sampled import sampled_constants
 from .lipschitz import Lipschitz, lq_lipschitz, lq_value_matrices, sampled_lipschitz
 
 __all__ = ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
            "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit", "Regret",
-           "worst_case_regret", "Lipschitz", "lq_lipschitz", "lq_value_matrices", "sampled_lipschitz"]
+           "worst_case_regret", "Lipschitz", "lq_lipschitz", "lq_value_matrices", "sampled_lipschitz",
+           "MinMaxConstants", "minmax_constants"]

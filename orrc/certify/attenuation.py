@@ -21,10 +21,15 @@ from ..controllers.gpc import GPC, DisturbanceAction
 from ..controllers.hinf import HInfinity
 from ..controllers.regret_optimal import RegretOptimal
 from ..controllers.preview import PreviewRHC
+from ..solvers.plan import SolverWarning
 from ..systems import LinearSystem
 from .constants import _check_linear_system, _check_quadratic_cost
 
 __all__ = ["Attenuation", "worst_case_attenuation", "worst_case_attenuation_limit"]
+
+# the distance 1 - ρ to the unit circle below which a closed loop counts as not stable
+# (the absolute 1e-8 of python-control's H∞ routine; see worst_case_attenuation_limit)
+_BOUNDARY = 1e-8
 
 
 @dataclass
@@ -316,10 +321,22 @@ def worst_case_attenuation_limit(system: LinearSystem, controller: Controller, c
     Ad, Bd, Cd, Dd = _closed_loop_ss(system, loop)
     sys_d = control.ss(Ad, Bd, Cd, Dd, dt=True)
     rho = float(np.max(np.abs(np.linalg.eigvals(Ad))))
-    if rho >= 1.0 - 1e-12:
+    # python-control's H∞ routine (method "scipy") tests poles and Hamiltonian eigenvalues for
+    # lying on the imaginary axis with an absolute 1e-8 (np.isclose), after the bilinear map
+    # below, which puts a pole z = ρe^{iθ} at |Re s| >= about 1 - ρ. So 1 - ρ <= 1e-8 is on the
+    # stability boundary to that routine's precision (on x⁺ = (1 - δ)x it returns inf for
+    # δ = 3e-9 and 5e23 for the true 1e16 at δ = 1e-8), and a double eigenvalue on the unit
+    # circle is only computed to ~sqrt(eps) = 1.5e-8 anyway. Above the boundary its level is
+    # resolved to about (1e-8/(1 - ρ))² relative (measured), hence the warning below.
+    if rho >= 1.0 - _BOUNDARY:
         return Attenuation(gamma=math.inf, closed_loop=sys_d, start=start,
-                           reason=f"the closed loop is not stable (spectral radius {rho:.6g} >= 1): "
+                           reason=f"the closed loop is not stable (spectral radius {rho:.12g} >= 1 - "
+                                  f"{_BOUNDARY:g}, on the stability boundary to working precision): "
                                   "the worst-case attenuation grows without bound with T")
+    if (_BOUNDARY / (1.0 - rho)) ** 2 > tol:
+        warnings.warn(f"the closed loop's spectral radius {rho:.12g} is within {1.0 - rho:.3g} of 1: "
+                      f"the H∞ level is resolved only to about {(_BOUNDARY / (1.0 - rho)) ** 2:.1g} relative, "
+                      f"not to tol={tol:g}", SolverWarning, stacklevel=2)
     I = np.eye(Ad.shape[0])
     Ainv = np.linalg.inv(Ad + I)
     Ac, Bc, Cc, Dc = 2 * (Ad - I) @ Ainv, 2 * Ainv @ Bd, 2 * Cd @ Ainv, Dd - Cd @ Ainv @ Bd

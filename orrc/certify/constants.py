@@ -15,7 +15,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import theory
-from .._validate import PY_CALL_OPS, OrrcValueError, as_float, as_int, check_finite_result, check_size
+from .._validate import (PY_CALL_OPS, OrrcValueError, as_float, as_int, check_finite_result, check_size,
+                         eigvalsh_tol)
 from ..costs import QuadraticCost
 from ..solvers.lq import LQPreviewLaw, riccati_step, riccati_steps_size
 from ..systems import LinearSystem
@@ -142,6 +143,10 @@ class _SchurCurve:
         lam, V = np.linalg.eigh(0.5 * (Hww + Hww.T))
         self.lam = lam
         self.lam_max = float(lam[-1])
+        # every λ_i(H_ww) is known to within its rounding error (eigvalsh_tol, N·eps·‖H_ww‖₂): a
+        # γ̄ that exceeds λ_max(H_ww) by no more than that does not make γ̄ I - H_ww ≻ 0 certain,
+        # and ᾱ(γ̄) there is dominated by rounding (its relative error is about tol/(γ̄ - λ_max))
+        self.tol = eigvalsh_tol(Hww)
         self.G = Hxw @ V
         self.Hxx = 0.5 * (Hxx + Hxx.T)
         self.alpha_inf = float(np.linalg.eigvalsh(self.Hxx)[-1])
@@ -149,10 +154,10 @@ class _SchurCurve:
 
     def __call__(self, gamma_bar: float) -> float:
         d = gamma_bar - self.lam
-        if not np.all(d > 0):
+        if not np.all(d > self.tol):
             raise OrrcValueError(
                 f"gamma_bar must exceed λ_max(H_ww) = {self.lam_max:.6g} (below it no alpha_hi is "
-                f"admissible); got {gamma_bar:.6g}")
+                f"admissible) by more than its rounding error {self.tol:.3g}; got {gamma_bar:.6g}")
         S = self.Hxx + (self.G / d) @ self.G.T
         return float(np.linalg.eigvalsh(0.5 * (S + S.T))[-1])
 
@@ -289,7 +294,9 @@ def lq_constants(system: LinearSystem, cost: QuadraticCost, M: int, grid: int = 
         if not feasible or not np.isfinite(gcs).any():
             break
         i = int(np.argmin(gcs))
-        if i == 0 and curve.lam_max > 0 and d_lo > 1e-14 * scale:
+        # extend to the left only where the curve is resolved: ᾱ(λ_max + d) has a relative
+        # rounding error of about curve.tol / d, so d stays above 1e6·curve.tol (error <= ~1e-6)
+        if i == 0 and curve.lam_max > 0 and d_lo * 1e-3 > 1e6 * curve.tol:
             d_lo *= 1e-3
         elif i == grid - 1:
             d_hi *= 1e3

@@ -83,6 +83,10 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
             + [(x, W) for x, W in zip(xs[n_samples:], Ws[n_samples:])])
     sig, en, V, ratios = [], [], [], []
     failures = 0
+    # c/σ along the plans skips states numerically at the origin, σ below 1e-12 of the sampled
+    # states' scale (a state off the origin by rounding, ~1e-6 of the radius or less, where c/σ
+    # is a ratio of rounding errors), relative so that the estimate does not depend on units
+    sigma_floor = 1e-12 * max(cost.sigma(x) for x in xs)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for x, W in jobs:
@@ -96,7 +100,7 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
             if cost.alpha_lo is None:
                 for xk, uk in zip(plan.states[:-1], plan.inputs):
                     s = cost.sigma(xk)
-                    if s > 1e-12:
+                    if s > sigma_floor:
                         ratios.append(cost.value(xk, uk) / s)
     sig, en, V = np.array(sig), np.array(en), np.array(V)
     pos, has_w = sig > 0, en > 0

@@ -38,6 +38,11 @@ class Margins:
     t : the step index of each margin (the meaning is given by ``what``).
     bound, actual : the two sides; margin = bound - actual (>= 0: the inequality holds).
     what : which inequality, in words.
+    scale : the size of the terms the two sides are sums of, at every step (Σ of their absolute
+        values: for the increment |V^{t+1}| + |V^t| + |Γ_V| σ + Γ^γ_V Σ‖w‖², for Theorem 1
+        C + Σ c_t + γ Σ‖w_t‖²). Rounding errors are relative to these terms, not to their
+        difference, which may cancel to nearly zero. None: |bound| + |actual| (the sides are
+        sums of non-negative terms).
     """
 
     t: np.ndarray
@@ -45,21 +50,31 @@ class Margins:
     actual: np.ndarray
     margin: np.ndarray
     what: str
+    scale: np.ndarray | None = None
 
     def _slack(self, rtol: float, atol: float) -> np.ndarray:
-        """The rounding allowance rtol·(|bound| + |actual|) + atol at every step."""
+        """The allowance rtol·scale + atol at every step."""
         rtol, atol = as_float("rtol", rtol, minimum=0.0), as_float("atol", atol, minimum=0.0)
-        return rtol * (np.abs(self.bound) + np.abs(self.actual)) + atol
+        scale = np.abs(self.bound) + np.abs(self.actual) if self.scale is None else self.scale
+        return rtol * scale + atol
 
-    def holds(self, rtol: float = 1e-9, atol: float = 1e-12) -> bool:
-        """All margins >= -(rtol·(|bound| + |actual|) + atol): the inequality holds up to rounding.
+    def holds(self, rtol: float = 1e-9, atol: float = 0.0) -> bool:
+        """All margins >= -(rtol·scale + atol): the inequality holds up to rounding.
+
+        The default rtol = 1e-9 (about 4.5·10⁶ eps) allows the relative error of V_M: on the LQ
+        path it is rounding in the M-step Riccati solution and the quadratic form zᵀHz (a few
+        hundred eps for the well-conditioned problems of the book), on the NLP path IPOPT's
+        tolerance (1e-9, :mod:`orrc.solvers.nlp`); the sums over T steps add T·eps each, covered
+        for T up to ~10⁶. The allowance is relative to ``scale``, so a problem and the same
+        problem in other units (all costs times s) pass or fail alike; an absolute ``atol``
+        (default 0) would hide real violations of problems whose costs are small.
 
         A NaN margin does not hold (and is not listed by :meth:`violations`, which lists the
         steps that fail beyond rounding), hence not ``violations(...).size == 0``.
         """
         return bool(np.all(self.margin >= -self._slack(rtol, atol)))
 
-    def violations(self, rtol: float = 1e-9, atol: float = 1e-12) -> np.ndarray:
+    def violations(self, rtol: float = 1e-9, atol: float = 0.0) -> np.ndarray:
         """The steps t where the inequality fails beyond rounding."""
         return self.t[self.margin < -self._slack(rtol, atol)]
 
@@ -81,26 +96,37 @@ class Lemma1Margins:
     Gamma_V: float
     Gamma_V_gamma: float
 
-    def holds(self, rtol: float = 1e-9, atol: float = 1e-12) -> bool:
+    def holds(self, rtol: float = 1e-9, atol: float = 0.0) -> bool:
         return self.lower.holds(rtol, atol) and self.increment.holds(rtol, atol)
 
 
-def _trajectory(traj, M):
+def _valued_trajectory(traj, value: str, algorithm: str, controller: str):
+    """``traj`` when it is a :class:`~orrc.Trajectory` whose every step holds ``value`` (e.g. "V_M")
+    as the optimum of a successful solve, with finite costs and σ; else an error saying why (the
+    lemmas are about ``algorithm``'s optimal values, which ``controller`` reports)."""
     from ..simulate import Trajectory
 
     if not isinstance(traj, Trajectory):
         raise OrrcValueError(f"traj must be an orrc Trajectory (from orrc.simulate); got {type(traj).__name__}")
     if traj.values is None:
         raise OrrcValueError(
-            f"the trajectory has no V_M values (controller {traj.controller!r}); simulate Algorithm 1 "
-            "(orrc.PreviewRHC), which reports V_M at every step")
+            f"the trajectory has no {value} values (controller {traj.controller!r}); simulate {algorithm} "
+            f"({controller}), which reports {value} at every step")
     if traj.n_failures or (traj.value_valid is not None and not traj.value_valid.all()):
         bad = np.flatnonzero(~traj.success) if traj.n_failures else np.flatnonzero(~traj.value_valid)
         raise OrrcValueError(
-            f"traj has {bad.size} steps without a valid V_M (t = {bad[:8].tolist()}{'...' if bad.size > 8 else ''}: "
+            f"traj has {bad.size} steps without a valid {value} (t = {bad[:8].tolist()}{'...' if bad.size > 8 else ''}: "
             f"{'the solve failed there' if traj.n_failures else 'the value is not finite'}; see Trajectory.success "
-            "and value_valid): the lemmas are about Algorithm 1's optimal values, which these steps do not have. "
+            f"and value_valid): the lemmas are about {algorithm}'s optimal values, which these steps do not have. "
             "Re-run with solver options that converge (e.g. a larger ipopt.max_iter)")
+    if not (np.all(np.isfinite(traj.costs)) and np.all(np.isfinite(traj.sigma))):
+        raise OrrcValueError("traj has non-finite stage costs or σ (the run overflowed; see the NonFiniteWarning "
+                             "of orrc.simulate): the inequalities cannot be checked")
+    return traj
+
+
+def _trajectory(traj, M):
+    traj = _valued_trajectory(traj, "V_M", "Algorithm 1", "orrc.PreviewRHC")
     M = as_int("M", M, minimum=2)
     if traj.preview_w < traj.preview_c:
         raise OrrcValueError(
@@ -115,9 +141,6 @@ def _trajectory(traj, M):
     e = np.einsum("ij,ij->i", traj.w_all, traj.w_all)
     if len(e) < traj.T + M - 1:
         raise OrrcValueError(f"traj.w_all has {len(e)} rows; expected at least T + M - 1 = {traj.T + M - 1}")
-    if not (np.all(np.isfinite(traj.costs)) and np.all(np.isfinite(traj.sigma))):
-        raise OrrcValueError("traj has non-finite stage costs or σ (the run overflowed; see the NonFiniteWarning "
-                             "of orrc.simulate): the inequalities cannot be checked")
     return traj, M, e
 
 
@@ -164,10 +187,12 @@ def lemma1_margins(traj, M, alpha_lo, alpha_hi, gamma_bar) -> Lemma1Margins:
     lower_bound = float(alpha_lo) * sig[:T]
     lower = Margins(t, V.copy(), lower_bound, V - lower_bound, "V_M(x_t) >= alpha_lo σ(x_t)")
     ti = np.arange(T - 1)
-    inc_bound = GV * sig[:T - 1] + GVg * _window_energy(e, M, T - 1)
+    S = _window_energy(e, M, T - 1)
+    inc_bound = GV * sig[:T - 1] + GVg * S
     inc_actual = V[1:] - V[:-1]
+    inc_scale = abs(GV) * sig[:T - 1] + abs(GVg) * S + np.abs(V[1:]) + np.abs(V[:-1])
     increment = Margins(ti, inc_bound, inc_actual, inc_bound - inc_actual,
-                        "V_M(x_{t+1}) - V_M(x_t) <= Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖²")
+                        "V_M(x_{t+1}) - V_M(x_t) <= Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖²", inc_scale)
     return Lemma1Margins(lower, increment, GV, GVg)
 
 
@@ -215,4 +240,6 @@ def theorem1_margin(traj, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> Margins
     Ts = np.arange(1, s.T + 1)
     C = theory.known._theorem1_constants(s, e, Ts)
     R = attenuation_regret(traj, s.gamma, cumulative=True)
-    return Margins(Ts, C, R, C - R, "R^p_T(gamma) <= C (Theorem 1, explicit O(1))")
+    # R = Σ c_t - γ Σ‖w_t‖² cancels: its rounding is relative to the two sums
+    scale = np.abs(C) + np.cumsum(np.abs(traj.costs)) + s.gamma * np.cumsum(e[:s.T])
+    return Margins(Ts, C, R, C - R, "R^p_T(gamma) <= C (Theorem 1, explicit O(1))", scale)

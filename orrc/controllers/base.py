@@ -1,9 +1,29 @@
-"""What a controller sees (Observation) and returns (Decision).
+"""What a controller sees (Observation) and returns (Decision), and the interface it offers the simulator.
 
 The simulator builds one :class:`Observation` per step with exactly the preview a
 controller declares (``preview_w`` future disturbances, ``preview_c`` future
 costs), which is how the paper's information pattern
 u_t = π_t(x_{1:t}, u_{1:t-1}, w_{1:t+M_w-1}, c_{1:t+M_c-1}) is enforced.
+
+**Values in a batch.** V_M does not feed back into the loop, so a controller that can compute it
+for many steps at once may leave it out of the step: it returns ``Decision(value_deferred=True)``
+(and no ``value``), and :func:`orrc.simulate` calls :meth:`Controller.values_batch` once after the
+last step, with the states and preview windows of every deferred step (a step of the fast path below
+counts as deferred when its ``fast_decision`` says so). The exact LQ path of :class:`~orrc.PreviewRHC`
+does this through its fast path: V_M(x_t, W_t) = z_tᵀ H z_t for the whole run is one matrix product,
+where one product per step with the (n + Mn)² matrix H was most of the step's time. (Its
+:meth:`~orrc.PreviewRHC.control`, called directly or by a controller that wraps it, still reports V_M.)
+
+**Inputs without the per-step records.** A controller whose steps, on a problem without a cost
+preview, produce nothing but u_t (no solve to report, V_M deferred) may also offer ``fast_input``, a
+callable ``fast_input(x_t, w_preview) -> u_t`` given exactly what an :class:`Observation` would hold
+(the read-only state and the M_w-step preview), and ``fast_decision``, the :class:`Decision` that
+describes every such step (its ``status``, ``solver``, ``value_deferred``; its ``u`` is ignored).
+:func:`orrc.simulate` then calls ``fast_input`` instead of :meth:`Controller.control` and builds no
+Observation or Decision per step (two small objects were a third of the exact LQ path's step). The
+information pattern is the same. A controller offers it only when its own :meth:`control` would
+return that Decision at every such step (:class:`~orrc.PreviewRHC` on its exact LQ path, and not in a
+subclass that overrides ``control``).
 """
 from __future__ import annotations
 
@@ -41,8 +61,11 @@ class Decision:
     ``success`` is False when the step's solve failed; ``status`` then gives the solver's
     statuses, ``fallback`` what u_t is instead (e.g. "the previous successful plan, shifted"),
     and ``value`` is NaN (or is ignored: a failed solve has no optimal value). A step at which
-    the controller solves nothing keeps ``success=True``. :func:`orrc.simulate` records all of
-    it in the :class:`~orrc.Trajectory` and warns once per run when some step failed.
+    the controller solves nothing keeps ``success=True``. ``solver`` names the solver that
+    produced the step ("lq", "sqp", "ipopt"; for a failed step the last one tried; None when
+    nothing was solved). ``value_deferred=True`` says that this step's V_M will come from
+    :meth:`Controller.values_batch` after the run (``value`` is then None). :func:`orrc.simulate`
+    records all of it in the :class:`~orrc.Trajectory` and warns once per run when some step failed.
     """
 
     u: np.ndarray
@@ -52,6 +75,8 @@ class Decision:
     iterations: int = 0
     solve_time: float = 0.0
     fallback: str | None = None
+    solver: str | None = None
+    value_deferred: bool = False
 
 
 class Controller:
@@ -62,6 +87,9 @@ class Controller:
     preview_c: int = 0
     cost = None
     name = "controller"
+    #: optional: ``fast_input(x, w_preview) -> u`` and the Decision of every such step (module docstring)
+    fast_input = None
+    fast_decision: "Decision | None" = None
 
     def check_run(self, system, T: int) -> None:
         """Refuse a run this controller cannot serve (called by ``simulate`` before the first step).
@@ -92,6 +120,18 @@ class Controller:
         Values are numpy arrays with time along axis 0 where they are per step.
         """
         return {}
+
+    def values_batch(self, X: np.ndarray, W_windows: np.ndarray) -> np.ndarray:
+        """V_M of many steps at once, for the steps whose :class:`Decision` had ``value_deferred=True``
+        (called by :func:`orrc.simulate` once, after the last step).
+
+        X : (k, n) the states x_t of those steps, in time order.
+        W_windows : (k, preview_w, n) their preview windows w_{t:t+M_w-1} (read-only).
+        Returns (k,) the values V_M(x_t, W_t), each equal to what the step would have reported.
+        A controller that defers values must implement it; the default refuses.
+        """
+        raise OrrcValueError(f"controller {self.name!r} returned Decision(value_deferred=True) but does not implement "
+                             "values_batch(X, W_windows), which must then give those steps' V_M")
 
     def control(self, obs: Observation) -> Decision:  # pragma: no cover - abstract
         raise NotImplementedError

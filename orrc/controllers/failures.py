@@ -9,7 +9,8 @@ At each step t (``FailureLadder.step``):
 1. **Solve** from the warm start: the last *successful* plan shifted to t (never a failed
    iterate, so one failure cannot compound into an open-loop replay of a bad plan).
 2. **Retry from a cold start** if that fails (a bad warm start is the commonest cause). More rungs
-   can follow (e.g. another NLP solver): the first that succeeds gives the step's plan.
+   can follow: on the default NLP path of ``PreviewRHC``, IPOPT after SQP (warm and cold). The
+   first rung that succeeds gives the step's plan (and names its solver, ``Plan.solver``).
 3. **Fall back** if every rung failed: apply the next input of the last successful plan, shifted
    by the steps since it was computed, while that plan lasts (fewer than M steps old): the
    standard receding-horizon fallback, a plan that was optimal a few steps ago. With no such
@@ -58,7 +59,7 @@ def max_failures_arg(max_failures) -> int | None:
 
 def _shift(rows: np.ndarray, k: int) -> np.ndarray:
     """rows[k:] followed by k copies of the last row (same length)."""
-    return np.vstack([rows[k:], np.repeat(rows[-1:], k, axis=0)])
+    return np.concatenate((rows[k:], np.broadcast_to(rows[-1], (k,) + rows.shape[1:])))
 
 
 class FailureLadder:
@@ -80,6 +81,7 @@ class FailureLadder:
         self._good: Plan | None = None
         self._good_t = 0
         self._streak: list[tuple[int, str]] = []
+        self._tried: list[str] = []  # the rungs of the last failed step, for the stop message
 
     # -- stateless: one problem, several ways of solving it --------------------------------------
     @staticmethod
@@ -123,6 +125,7 @@ class FailureLadder:
     def step(self, t: int, rungs: Sequence[Rung]) -> Plan:
         """The plan to apply at step t: climb the rungs, fall back, or stop (module docstring)."""
         plan = self.attempt(rungs)
+        self._tried = [label for label, _ in rungs]
         if plan.success:
             self._good, self._good_t = plan, t
             self._streak = []
@@ -143,10 +146,12 @@ class FailureLadder:
     def _stop_message(self, t: int) -> str:
         first = self._streak[0][0]
         statuses = sorted({s for _, s in self._streak})
+        tried = ", then ".join(self._tried) if len(self._tried) > 1 else "one solve"
         return (f"{self.name} stopped at step t={t}: the M-step solve failed at {len(self._streak)} consecutive "
-                f"steps (t={first}..{t}; max_failures={self.max_failures}; each step was also tried from a cold start); "
-                f"solver statuses: {statuses}. What to try: raise the solver's iteration limit "
-                "(solver_options={'ipopt.max_iter': ...}) or loosen its tolerances; check that the input and "
+                f"steps (t={first}..{t}; max_failures={self.max_failures}; each step tried {tried}); "
+                f"solver statuses: {statuses}. What to try: raise the solvers' iteration limits "
+                "(solver_options={'sqpmethod.max_iter': ..., 'ipopt.max_iter': ...}) or loosen their tolerances; "
+                "check that the input and "
                 "state bounds leave the M-step problem feasible from these states; a shorter horizon M or a "
                 "rescaled cost; or pass max_failures=None to run on through the fallbacks (the run is then not "
                 "Algorithm 1 at the failed steps, which orrc.Trajectory.success marks)")

@@ -11,11 +11,17 @@ from .._validate import OrrcValueError, _describe, as_array, as_int, check_evalu
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from ..solvers import lq
-from ..solvers.nlp import ShootingNLP
+from ..solvers.nlp import IPOPT, NLP_SOLVERS, SOLVER_LABELS, SQP, ShootingNLP
 from ..solvers.plan import Plan, SolverWarning
 from ..solvers.qp import L1QP
 from .base import Controller, Decision, Observation
 from .failures import DEFAULT_MAX_FAILURES, FailureLadder
+
+
+#: the values of ``PreviewRHC(solver=...)``
+SOLVER_CHOICES = ("auto", "lq", "qp", "nlp", "sqp", "ipopt")
+#: the CasADi solvers each NLP choice tries, in order (the rungs of the failure ladder)
+_NLP_LADDERS = {"nlp": NLP_SOLVERS, "sqp": (SQP,), "ipopt": (IPOPT,)}
 
 
 def _bounds(name, bounds, dim):
@@ -63,8 +69,9 @@ class PreviewRHC(Controller):
     Solvers: a :class:`~orrc.LinearSystem` with a :class:`~orrc.QuadraticCost` and
     no bounds is solved exactly by the Riccati recursion with disturbance
     feed-forward (``orrc.solvers.lq``); a LinearSystem with an :class:`~orrc.L1Cost` exactly as
-    one quadratic program (``orrc.solvers.qp``, input bounds allowed); everything else by CasADi + IPOPT
-    (``orrc.solvers.nlp``), built once and warm-started from the shifted previous plan.
+    one quadratic program (``orrc.solvers.qp``, input bounds allowed); everything else by CasADi
+    (``orrc.solvers.nlp``), built once and warm-started from the shifted previous plan: SQP
+    (CasADi's ``sqpmethod`` with the QP solver ``qrqp``) first, IPOPT when SQP fails.
 
     Parameters
     ----------
@@ -74,9 +81,15 @@ class PreviewRHC(Controller):
     terminal_cost : extension beyond the paper -- a (n, n) PSD matrix Pf (cost x̃ᵀPf x̃
         on x̃_{t+M}) or a callable in CasADi operations. The paper has none.
     state_bounds : extension beyond the paper -- (lo, hi) box on x̃_{t+1..t+M} (CasADi path).
-    solver : "auto" (default), "lq", "qp" or "nlp".
-    solver_options : extra options for ``casadi.nlpsol`` (e.g. {"ipopt.max_iter": 100}); the
-        exact LQ path has no options and warns that they are ignored.
+    solver : "auto" (default: "lq" or "qp" where the problem allows it, else "nlp"), "lq" (the exact
+        Riccati law), "qp" (the exact QP of an L1Cost), "nlp" (CasADi: SQP, then IPOPT as the
+        fallback when SQP fails), "sqp" (SQP alone) or "ipopt" (IPOPT alone). Each step reports the
+        solver that produced it (``Plan.solver``, ``Decision.solver``, ``Trajectory.solver``: "lq",
+        "qrqp", "sqp" or "ipopt").
+    solver_options : extra options for the CasADi solvers: keys "sqpmethod.*" for SQP (e.g.
+        {"sqpmethod.max_iter": 20}), "ipopt.*" for IPOPT (e.g. {"ipopt.max_iter": 100}), other
+        keys for both (``orrc.solvers.nlp``); options for a solver that is not used, and any
+        options on the exact LQ path (which has none), are ignored with a warning.
     max_failures : consecutive failed steps after which :meth:`control` stops with
         :class:`~orrc.SolverError` (default 3); None never stops.
     preview_w : k with 0 <= k <= M (default M): how many future disturbances w_t..w_{t+k-1} the
@@ -90,7 +103,8 @@ class PreviewRHC(Controller):
         :meth:`set_theta` changes it without rebuilding the solver.
 
     Solver failures (NLP path) follow :mod:`orrc.controllers.failures`: a failed solve is retried
-    from a cold start; if that fails too, the step applies the previous successful plan shifted
+    from a cold start, then (solver="nlp") with IPOPT; if that fails too, the step applies the
+    previous successful plan shifted
     (while it lasts, fewer than M steps), else the solver's last iterate, and is marked
     (``success=False``, its V_M NaN, ``fallback`` naming what was applied); after
     ``max_failures`` consecutive failed steps the controller raises :class:`~orrc.SolverError`.
@@ -123,11 +137,13 @@ class PreviewRHC(Controller):
             self.name = f"preview RHC, k = {self.preview_w}"
         self.input_bounds = _bounds("input_bounds", input_bounds, system.m)
         self.state_bounds = _bounds("state_bounds", state_bounds, system.n)
-        if not isinstance(solver, str) or solver not in ("auto", "lq", "nlp", "qp"):
-            raise OrrcValueError(f"solver must be 'auto', 'lq', 'qp' or 'nlp'; got {solver!r}")
+        if not isinstance(solver, str) or solver not in SOLVER_CHOICES:
+            raise OrrcValueError(f"solver must be one of {', '.join(map(repr, SOLVER_CHOICES))}; got {solver!r}")
         if solver_options is not None and not isinstance(solver_options, dict):
             raise OrrcValueError(f"solver_options must be a dict; got {type(solver_options).__name__}")
         self._ladder = FailureLadder(self.M, max_failures, name=f"PreviewRHC(M={self.M})")
+        # the parameters of c_t..c_{t+M-1} for a time-invariant cost (read-only, made once)
+        self._default_P = np.broadcast_to(cost.default_params, (self.M, cost.n_params))
         Pf, term_fn = None, None
         if terminal_cost is not None:
             if callable(terminal_cost):
@@ -144,13 +160,13 @@ class PreviewRHC(Controller):
             raise OrrcValueError(
                 "solver='lq' needs a LinearSystem, a QuadraticCost, no input/state bounds and a "
                 "quadratic (matrix) terminal cost or none; use solver='nlp' or 'auto'")
-        self.solver = "lq" if (solver == "lq" or (solver == "auto" and lq_ok)) else "nlp"
+        self.solver = ("lq" if lq_ok else "nlp") if solver == "auto" else solver
         # an ℓ1 state cost on a linear system: one exact QP per step (orrc.solvers.qp)
         qp_ok = (isinstance(system, LinearSystem) and isinstance(cost, L1Cost) and self.state_bounds is None
                  and terminal_cost is None)
         if solver == "qp" and not qp_ok:
             raise OrrcValueError("solver='qp' needs a LinearSystem, an L1Cost, no state bounds and no terminal cost")
-        if solver in ("auto", "qp") and qp_ok:
+        if solver == "auto" and qp_ok:
             self.solver = "qp"
         self.theta = None
         if getattr(system, "n_params", 0):  # a ParametricSystem: θ is a parameter of the NLP
@@ -163,15 +179,24 @@ class PreviewRHC(Controller):
         self._Pf = Pf
         if self.solver == "lq":
             self._nlp = None
+            if type(self).control is PreviewRHC.control:  # a subclass that overrides control() keeps it
+                self.fast_input = self._fast_lq_input
+                self.fast_decision = Decision(u=None, value_deferred=True, solver="lq")
             if solver_options:
                 warnings.warn(f"solver_options {sorted(solver_options)} are ignored: this problem is solved "
                               "exactly on the LQ path (Riccati recursion), which has no options; pass "
-                              "solver='nlp' to solve it with CasADi + IPOPT instead", UserWarning, stacklevel=2)
+                              "solver='nlp' to solve it with CasADi (SQP, IPOPT as the fallback) instead",
+                              UserWarning, stacklevel=2)
         elif self.solver == "qp":
             self._nlp = L1QP(system.A, system.B, cost.q, cost.R, self.M, self.input_bounds)
         else:
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
-                                    term_fn, solver_options=solver_options)
+                                    term_fn, solvers=_NLP_LADDERS[self.solver], solver_options=solver_options)
+
+    def _fast_lq_input(self, x, w_preview):
+        """u_t of the exact LQ path for a time-invariant cost: what :meth:`control` returns (the
+        simulator's fast path, :mod:`orrc.controllers.base`)."""
+        return self.law.input(x, w_preview if self.preview_w == self.M else self._pad(w_preview))
 
     @functools.cached_property
     def law(self) -> lq.LQPreviewLaw | None:
@@ -199,7 +224,7 @@ class PreviewRHC(Controller):
             raise OrrcValueError(f"w_preview must have shape {want}; got shape {w_preview.shape}")
         w_preview = self._pad(w_preview[:k])
         if cost_params is None:
-            P = np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
+            P = self._default_P
         else:
             P = self.cost.check_params(cost_params)
             if P.shape[0] < self.M:
@@ -236,8 +261,8 @@ class PreviewRHC(Controller):
         (NLP path). Returns a :class:`~orrc.solvers.Plan` with ``.inputs`` (M, m),
         ``.states`` (M+1, n) and ``.value`` = V_M.
 
-        A failed NLP solve is retried from a cold start; if that fails too the plan has
-        ``success=False``, its ``fallback`` says what its inputs are (the shifted warm start
+        A failed NLP solve is retried from a cold start (then with IPOPT, on the default NLP path);
+        if every rung fails the plan has ``success=False``, its ``fallback`` says what its inputs are (the shifted warm start
         when one was given, else the solver's last iterate), and one
         :class:`~orrc.SolverWarning` says so.
         """
@@ -250,7 +275,7 @@ class PreviewRHC(Controller):
             if warm is not None:
                 plan.inputs, plan.states, plan.fallback = warm[0], np.vstack([x, warm[1][1:]]), \
                     "the warm start, shifted"
-            warnings.warn(f"PreviewRHC.plan: the NLP solver ({plan.solver}) did not succeed ({plan.status}); "
+            warnings.warn(f"PreviewRHC.plan: the solve ({SOLVER_LABELS.get(plan.solver, plan.solver)}) did not succeed ({plan.status}); "
                           f"the plan holds {plan.fallback} (plan.success is False)", SolverWarning, stacklevel=2)
         return plan
 
@@ -274,16 +299,22 @@ class PreviewRHC(Controller):
 
     def _rungs(self, x, W, P, warm):
         """The ways of solving one M-step problem on the NLP path, in the order the failure ladder
-        tries them: from the warm start (when there is one), then from a cold start. (The exact QP of an
-        ℓ1 cost needs no guess: one rung.)"""
+        tries them: the first solver (SQP on the default path) from the warm start (when there is
+        one), then from a cold start; then each further solver (IPOPT) once, from the warm start
+        when there is one, else cold. (The exact QP of an ℓ1 cost needs no guess: one rung.)"""
         if self.solver == "qp":
             return [("exact QP", lambda: self._nlp.solve(x, W))]
-        rungs = []
-        kw = {} if self.theta is None else {"theta": self.theta}   # a ParametricSystem's θ̂, an NLP parameter
-        if warm is not None:
-            gU, gX = warm[0], np.vstack([x, warm[1][1:]])
-            rungs.append(("warm start", lambda: self._nlp.solve(x, W, P, gU, gX, **kw)))
-        rungs.append(("cold start", lambda: self._nlp.solve(x, W, P, **kw)))
+        first, *more = self._nlp.solvers
+        guess = warm  # (inputs, states x̃_0..x̃_M); the solver replaces x̃_0 by x
+        theta = self.theta  # a ParametricSystem's θ̂, an NLP parameter (None otherwise)
+
+        def rung(solver, start):
+            label = f"{SOLVER_LABELS[solver]} {'warm' if start else 'cold'} start"
+            return label, lambda: self._nlp.solve(x, W, P, *(start or (None, None)), solver=solver, theta=theta)
+
+        rungs = [rung(first, guess)] if guess is not None else []
+        rungs.append(rung(first, None))
+        rungs += [rung(solver, guess) for solver in more]
         return rungs
 
     def set_theta(self, theta) -> None:
@@ -301,10 +332,11 @@ class PreviewRHC(Controller):
     def control(self, obs: Observation) -> Decision:
         W = obs.w_preview if self.preview_w == self.M else self._pad(obs.w_preview)
         if self.solver == "lq" and obs.cost_params is None:
+            # (orrc.simulate takes the fast path instead, fast_input, with V_M from values_batch;
+            # a controller that wraps this one gets V_M at each step, as it always did)
             u, value = self.law.input_and_value(obs.x, W)
-            return Decision(u=u, value=value)
-        P = (np.broadcast_to(self.cost.default_params, (self.M, self.cost.n_params))
-             if obs.cost_params is None else obs.cost_params)
+            return Decision(u=u, value=value, solver="lq")
+        P = self._default_P if obs.cost_params is None else obs.cost_params
         x, invariant = obs.x, obs.cost_params is None
         if self.solver == "lq":
             plan = self._plan(x, W, P, invariant, None)
@@ -313,7 +345,26 @@ class PreviewRHC(Controller):
             plan = self._ladder.step(obs.t, self._rungs(x, W, P, None if warm is None else warm[:2]))
         return Decision(u=plan.inputs[0].copy(), value=plan.value, success=plan.success,
                         status=plan.status, iterations=plan.iterations, solve_time=plan.solve_time,
-                        fallback=plan.fallback)
+                        fallback=plan.fallback, solver=plan.solver)
+
+    def values_batch(self, X, W_windows):
+        """V_M(x_t, W_t) of the steps the exact LQ path deferred (the simulator's fast path,
+        :attr:`fast_input`, with a time-invariant cost): one matrix product over the whole run
+        (:meth:`orrc.solvers.lq.LQPreviewLaw.values`).
+
+        X : (k, n) states; W_windows : (k, preview_w, n) their preview windows. Returns (k,).
+        """
+        if self.solver != "lq":
+            raise OrrcValueError(f"values_batch is the exact LQ path's (this controller uses solver={self.solver!r}, "
+                                 "which reports V_M at each step)")
+        n, k = self.system.n, self.preview_w
+        X = as_array("X", X, (None, n))
+        W_windows = as_array("W_windows", W_windows, (len(X), k, n))
+        if self.preview_w < self.M:  # the unseen w_{t+k..t+M-1} are zero in the plan
+            full = np.zeros((len(X), self.M, self.system.n))
+            full[:, :self.preview_w] = W_windows
+            W_windows = full
+        return self.law.values(X, W_windows)
 
     def __repr__(self):
         k = "" if self.preview_w == self.M else f", preview_w={self.preview_w}"

@@ -44,8 +44,11 @@ class Plan:
     ``value`` is the optimal cost Σ_{j<M} c_j(x̃_j, ũ_j) (+ terminal cost, if any) of
     the problem that was solved. ``success`` and ``status`` report the solver's
     outcome; when ``success`` is False, ``value`` is the objective of the solver's last
-    iterate (not V_M) and ``fallback`` says what the inputs are. ``solver`` names the solver;
-    ``extra["attempts"]`` lists (what was tried, status) when a solve needed a retry.
+    iterate (not V_M) and ``fallback`` says what the inputs are. ``solver`` names the solver that
+    produced the plan ("lq", "sqp" or "ipopt"); ``extra["attempts"]`` lists (what was tried, status)
+    when a solve needed a retry. On the NLP path ``extra`` also holds the solver's multipliers
+    (``"lam_x"`` of the bounds on [vec U; x̃_1..x̃_M], ``"lam_g"`` of the dynamics) and, for SQP, the
+    acceptance checks' quantities (``"complementarity"``, ``"guess_cost"``; :mod:`orrc.solvers.nlp`).
     """
 
     inputs: np.ndarray

@@ -4,12 +4,12 @@ Imported inside a Jupyter kernel, this package makes every matplotlib Figure dis
 a wide and a narrow rendering (:func:`orrc.viz.figures.install`), so that figures stay
 legible at a phone's width in the book and in JupyterLab.
 """
-from . import comparison_plots, figures, plots, theory_plots, unknown_plots
+from . import comparison_plots, figures, minmax_plots, plots, theory_plots, unknown_plots
 from .explore import Explorer, explore, figure_to_png
 from .notebook import glue
 
 __all__ = ["explore", "Explorer", "figure_to_png", "figures", "glue", "plots", "theory_plots", "comparison_plots",
-           "unknown_plots"]
+           "unknown_plots", "minmax_plots"]
 
 
 def _in_kernel() -> bool:

@@ -121,7 +121,18 @@ def horizon_threshold(Ms, alpha_hi, alpha_lo, M_star: int | None = None) -> Figu
     return fig
 
 
-def lemma1_check(lemma1, value_bound=None, title: str | None = None) -> Figure:
+_LEMMA1_LABELS = {
+    "value": r"$V^t_M(x_t)$",
+    "upper": r"$\overline{\alpha}\sigma(x_t) + \overline{\gamma}\sum_k\|w_k\|^2$",
+    "bound": r"bound $\Gamma_V\sigma(x_t) + \Gamma^\gamma_V\sum_{k=t}^{t+M-1}\|w_k\|^2$",
+    "increment": r"$V^{t+1}_M - V^t_M$",
+    "Gamma": r"\Gamma_V",
+    "Gamma_gamma": r"\Gamma^\gamma_V",
+}
+
+
+def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool = False,
+                 labels: dict | None = None, stacked: bool = False) -> Figure:
     """Lemma 1 along a trajectory, from :func:`orrc.checks.lemma1_margins` (``lemma1``).
 
     Left: V^t_M(x_t) with its lower bound α_lo σ(x_t) (Lemma 1, first part) and, when
@@ -129,42 +140,55 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None) -> Figure:
     ᾱ σ(x_t) + γ̄ Σ_k ‖w_k‖² of the class condition; log scale. Right: the increments
     V^{t+1}_M - V^t_M and the bound Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖² (symmetric
     log scale: increments are often negative). The title gives Γ_V, Γ^γ_V and the
-    smallest margin.
+    smallest margin. ``labels`` replaces some of the legend's and title's labels (keys of
+    ``_LEMMA1_LABELS``: value, upper, bound, increment, Gamma, Gamma_gamma), for the same check of
+    another lemma (Lemma 6: :func:`orrc.viz.minmax_plots.lemma6_check`). ``stacked``: the two
+    panels one above the other (the book draws every figure that way for a phone anyway);
+    ``fast``: fixed margins (see :func:`orrc.viz.plots._figure`).
     """
     from ..checks import Lemma1Margins
 
     if not isinstance(lemma1, Lemma1Margins):
         raise OrrcValueError(f"lemma1 must be the result of orrc.checks.lemma1_margins; got {type(lemma1).__name__}")
+    lab = dict(_LEMMA1_LABELS)
+    if labels is not None:
+        from .._validate import check_options
+
+        check_options("labels", labels, _LEMMA1_LABELS)
+        lab.update(labels)
     if value_bound is not None:
         value_bound = _margins("value_bound", value_bound)
-    fig, axes = _figure(1, 2, height=4.0)
-    ax, ax2 = axes[0]
+    if stacked:
+        fig, axes = _figure(2, 1, width=6.4, height=8.0, fast=fast,
+                            margins={"top": 0.88 if title else 0.92, "bottom": 0.12, "hspace": 0.75, "left": 0.14})
+        ax, ax2 = axes[:, 0]
+    else:
+        fig, axes = _figure(1, 2, height=4.0, fast=fast,
+                            margins={"top": 0.80 if title else 0.86, "bottom": 0.27})
+        ax, ax2 = axes[0]
     low = lemma1.lower
     floor = max(float(np.min(low.bound[low.bound > 0], initial=1.0)) * 1e-3, 1e-300)
     if value_bound is not None:
         ax.fill_between(value_bound.t, np.maximum(low.actual, floor), value_bound.bound, color="tab:blue",
                         alpha=0.08, linewidth=0)
-        ax.plot(value_bound.t, value_bound.bound, color="tab:red", linewidth=1.2,
-                label=r"$\overline{\alpha}\sigma(x_t) + \overline{\gamma}\sum_k\|w_k\|^2$")
-    ax.plot(low.t, low.bound, color="tab:blue", linewidth=1.6, label=r"$V^t_M(x_t)$")
+        ax.plot(value_bound.t, value_bound.bound, color="tab:red", linewidth=1.2, label=lab["upper"])
+    ax.plot(low.t, low.bound, color="tab:blue", linewidth=1.6, label=lab["value"])
     ax.plot(low.t, np.maximum(low.actual, floor), color="tab:green", linewidth=1.2,
             label=r"$\underline{\alpha}\,\sigma(x_t)$")
     ax.set_yscale("log")
     ax.set_xlabel("$t$")
-    ax.set_title("the value between its bounds", fontsize=10)
-    _legend_below(ax, ncol=3)
+    ax.set_title("the value between its bounds", fontsize=FONT + 1)
+    _legend_below(ax, ncol=2 if stacked else 3, offset=-0.25 if stacked else -0.2)
     inc = lemma1.increment
-    ax2.plot(inc.t, inc.bound, color="tab:red", linewidth=1.2,
-             label=r"bound $\Gamma_V\sigma(x_t) + \Gamma^\gamma_V\sum_{k=t}^{t+M-1}\|w_k\|^2$")
-    ax2.plot(inc.t, inc.actual, color="tab:blue", linewidth=1.4, marker=".", markersize=3,
-             label=r"$V^{t+1}_M - V^t_M$")
+    ax2.plot(inc.t, inc.bound, color="tab:red", linewidth=1.2, label=lab["bound"])
+    ax2.plot(inc.t, inc.actual, color="tab:blue", linewidth=1.4, marker=".", markersize=3, label=lab["increment"])
     ax2.axhline(0.0, color="k", linewidth=0.7)
     _symlog(ax2, inc.bound, inc.actual)
     ax2.set_xlabel("$t$")
-    ax2.set_title(rf"increments: $\Gamma_V = {lemma1.Gamma_V:.3g}$, $\Gamma^\gamma_V = {lemma1.Gamma_V_gamma:.3g}$",
-                  fontsize=10)
-    _legend_below(ax2, ncol=1)
+    ax2.set_title(rf"increments: ${lab['Gamma']} = {lemma1.Gamma_V:.3g}$, "
+                  rf"${lab['Gamma_gamma']} = {lemma1.Gamma_V_gamma:.3g}$", fontsize=FONT + 1)
+    _legend_below(ax2, ncol=1, offset=-0.25 if stacked else -0.2)
     m = min(float(inc.margin.min()), float(low.margin.min()))
     head = (title + "\n") if title else ""
-    fig.suptitle(f"{head}smallest margin (bound minus actual): {m:.3g}", fontsize=10)
+    fig.suptitle(f"{head}smallest margin (bound minus actual): {m:.3g}", fontsize=FONT + 1)
     return fig

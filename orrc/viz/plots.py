@@ -23,14 +23,15 @@ __all__ = [
     "table", "Table",
 ]
 
-_NAMED = {"zero": "0.55", "lqr": "tab:orange", "rhc": "tab:blue", "preview": "tab:blue",
-          "clairvoyant": "black", "optimum": "black"}
+_NAMED = {"min-max": "tab:red", "game": "tab:purple", "h∞": "tab:purple", "zero": "0.55", "lqr": "tab:orange", "rhc": "tab:blue",
+          "preview": "tab:blue", "clairvoyant": "black", "optimum": "black"}
 _CYCLE = ["tab:blue", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 
 
 def controller_color(label: str, index: int = 0) -> str:
-    """A stable colour per controller: zero input grey, LQR orange, preview RHC blue,
-    the clairvoyant optimum black; other labels cycle through a fixed palette."""
+    """A stable colour per controller: zero input grey, LQR orange, preview RHC blue, min-max RHC
+    red, a game or H∞ controller purple, the clairvoyant optimum black; other labels cycle through a
+    fixed palette."""
     low = str(label).lower()
     for key, colour in _NAMED.items():
         if key in low:
@@ -142,13 +143,14 @@ def _rect(x, y, w, h, face, edge, alpha):
     return Rectangle((x, y), w, h, facecolor=face, edgecolor=edge, alpha=alpha, linewidth=1.0)
 
 
-def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, off_scale=()) -> Figure:
+def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, off_scale=(),
+                  stacked: bool = False) -> Figure:
     """Two panels: one state coordinate x_t[state] against t, and the cumulative cost
     Σ_{s<=t} c_s(x_s, u_s) against t.
 
     ``off_scale``: labels of trajectories (e.g. an unstable open loop) that are drawn
     but ignored when the axis limits are chosen, so they leave the picture instead of
-    flattening the others.
+    flattening the others. ``stacked``: the panels one above the other (narrow: for phones).
     """
     trajs = _trajs(trajs)
     first = next(iter(trajs.values()))
@@ -161,8 +163,8 @@ def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, o
             raise OrrcValueError(f"off_scale label {k!r} is not among the trajectories {list(trajs)}")
     if len(off_scale) == len(trajs):
         raise OrrcValueError("off_scale cannot list every trajectory: at least one must set the axis limits")
-    fig, axes = _figure(1, 2)
-    ax_x, ax_c = axes[0]
+    fig, axes = _figure(2, 1, width=6.4, height=6.0) if stacked else _figure(1, 2)
+    ax_x, ax_c = axes[:, 0] if stacked else axes[0]
     x_rng, c_rng = [np.inf, -np.inf], [np.inf, -np.inf]
     for i, (label, tr) in enumerate(trajs.items()):
         c = controller_color(label, i)
@@ -390,7 +392,7 @@ def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
         it = as_array(f"iterations[{label!r}]", it, ndim=1)
         axes[0, 0].plot(np.arange(len(it)), it, color=f"C{i}", label=label, linewidth=1.2)
     axes[0, 0].set_xlabel("$t$")
-    axes[0, 0].set_ylabel("IPOPT iterations")
+    axes[0, 0].set_ylabel("solver iterations")
     axes[0, 0].legend(fontsize=FONT)
     if solve_times:
         for i, (label, st) in enumerate(solve_times.items()):

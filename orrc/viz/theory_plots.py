@@ -25,6 +25,7 @@ gathers them under one name, as the chapters use them. Functions (the statement 
 * :func:`attenuation_vs_T` -- the exact finite-T worst case against T, with its cold and stationary limits;
 * :func:`constants_table`, :func:`margins_table` -- the constants, and the margins of the inequalities, as tables.
 """
+from ._theory_common import _message  # noqa: F401 (used by orrc.viz.minmax_plots)
 from .lemma1_plots import horizon_threshold, lemma1_check, pareto_curves
 from .lemma2_plots import bounds_vs_actual, lemma2_coefficients, lemma2_frame
 from .tables import constants_table, margins_table

@@ -1,0 +1,72 @@
+"""CasADi functions evaluated on numpy buffers: the hot paths' way of calling CasADi.
+
+Calling a ``casadi.Function`` with numpy arrays converts every argument to a CasADi matrix and
+every result back: about 35 µs per call on this project's machine, for a function that computes
+in 1 µs (the pendulum's dynamics), and half the time of a 0.2 ms SQP solve. ``Function.buffer()``
+evaluates on caller-owned contiguous arrays instead (1.6 µs for the same call). :class:`Buffered`
+wraps it; :func:`buffered` keeps one per object, function and thread (a buffer is working memory:
+two threads must not share one), and :class:`DropsBuffers` leaves the buffers out of a pickle.
+"""
+from __future__ import annotations
+
+import threading
+
+import casadi as ca
+import numpy as np
+
+
+class Buffered:
+    """A ``casadi.Function`` evaluated on numpy arrays it owns (``Function.buffer``): the arguments are
+    copied into :attr:`args`, the results appear in :attr:`res`, and no CasADi matrix is built per call.
+    The results are overwritten by the next call (copy what you keep)."""
+
+    def __init__(self, fn: ca.Function):
+        self.fn = fn
+        self.args = [np.zeros(fn.nnz_in(i)) for i in range(fn.n_in())]
+        self.res = [np.zeros(fn.nnz_out(i)) for i in range(fn.n_out())]
+        self.buffer, self._evaluate = fn.buffer()
+        for i, a in enumerate(self.args):
+            self.buffer.set_arg(i, memoryview(a))
+        for i, r in enumerate(self.res):
+            self.buffer.set_res(i, memoryview(r))
+
+    def __call__(self, *args) -> int:
+        """Evaluate with ``args`` (the inputs' nonzeros in column-major order, one array or scalar per
+        input; None keeps the last value); returns CasADi's return code (0: success)."""
+        for a, v in zip(self.args, args):
+            if v is not None:
+                a[:] = v
+        self._evaluate()
+        return self.buffer.ret()
+
+    def stats(self) -> dict:
+        """The statistics of the last evaluation (``Function.stats`` of the buffer's memory)."""
+        return self.buffer.stats()
+
+
+def buffered(owner, key: str, make, *initial) -> Buffered:
+    """The :class:`Buffered` of ``owner`` named ``key`` for the calling thread, made by ``make()``
+    (which returns the ``casadi.Function``) on first use, its arguments set to ``initial`` then
+    (arguments that never change, e.g. bounds)."""
+    try:
+        cache = owner.__dict__["_casadi_buffers"]
+    except KeyError:
+        cache = owner.__dict__["_casadi_buffers"] = {}
+    k = (key, threading.get_ident())
+    call = cache.get(k)
+    if call is None:
+        call = cache[k] = Buffered(make())
+        for a, v in zip(call.args, initial):
+            if v is not None:
+                a[:] = v
+    return call
+
+
+class DropsBuffers:
+    """Mixin: the buffers of :func:`buffered` are working memory, left out when the object is pickled
+    or copied (they are made again on first use)."""
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state.pop("_casadi_buffers", None)
+        return state

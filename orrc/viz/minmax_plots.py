@@ -1,0 +1,276 @@
+"""Figures of the min-max chapter (Algorithm 3, Lemma 6, Theorem 3; Appendix D of the paper).
+
+Every function takes the data it draws (plans of :class:`~orrc.MinMaxRHC`, constants of
+:func:`orrc.certify.minmax_constants`, margins of :mod:`orrc.checks.nopreview`, trajectories) and
+returns a :class:`matplotlib.figure.Figure`, built without pyplot; none of them solves anything.
+
+* :func:`bounds_history` -- the lower and upper bounds of scenario exchange, iteration by iteration;
+* :func:`minmax_pareto` -- the certified pairs (ᾱ_W, γ̄_W), the lower curve of exact samples, the
+  chosen pair and the paper's γ̄_W = γ̄ M;
+* :func:`lemma6_check` -- V_{W,M} between its bounds and its increments under Lemma 6's bound;
+* :func:`theorem3_growth` -- the cumulative cost under Theorem 3's bound γ T max‖w‖² + C_T, beside γ Σ‖w_t‖²;
+* :func:`controller_costs` -- total costs of several controllers under several disturbances (bars);
+* :func:`minmax_frame` -- an explorer frame over (M, size of W): the closed-loop costs of the
+  controllers and the per-step value with its certified upper bound.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from .._validate import OrrcValueError, as_array, as_float, as_int
+from .plots import _figure, _nonempty_dict, _trajs, controller_color
+from .theory_plots import _message, lemma1_check
+
+__all__ = ["bounds_history", "minmax_pareto", "lemma6_check", "theorem3_growth", "controller_costs", "minmax_frame"]
+
+
+def _legend_below(ax, ncol: int = 2, offset: float = -0.2, **kw) -> None:
+    """A frameless legend with 9 pt text centred under the axes (``offset``: its top, in axes fractions)."""
+    ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, offset), ncol=ncol, frameon=False, **kw)
+
+
+def _plans(plans) -> dict:
+    from ..solvers.minmax import MinMaxPlan
+
+    plans = _nonempty_dict("plans", plans, "MinMaxPlan")
+    for k, p in plans.items():
+        if not isinstance(p, MinMaxPlan):
+            raise OrrcValueError(f"plans[{k!r}] must be a MinMaxPlan (MinMaxRHC.plan); got {type(p).__name__}")
+        if p.history is None or len(p.history) == 0:
+            raise OrrcValueError(f"plans[{k!r}] has no bound history (method {p.method!r}); use method='exchange' "
+                                 "or 'exact'")
+    return plans
+
+
+def bounds_history(plans: dict, title: str | None = None) -> Figure:
+    """The bounds on V_{W,M}(x) after each iteration of a min-max solve (``plan.history``).
+
+    Top: lower (dots) and upper (squares) bounds divided by the final value, one colour per
+    plan (``plans``: label -> :class:`~orrc.solvers.minmax.MinMaxPlan`). Bottom: the relative gap
+    (upper - lower)/upper on a log scale (a gap of exactly 0 is drawn at 1e-16). The panels are
+    stacked (readable on a phone).
+    """
+    plans = _plans(plans)
+    fig, axes = _figure(2, 1, width=6.4, height=7.6)
+    ax, ax2 = axes[:, 0]
+    for i, (label, p) in enumerate(plans.items()):
+        h = np.asarray(p.history, float)
+        it = np.arange(1, len(h) + 1)
+        col = f"C{i}"
+        ax.plot(it, h[:, 0] / p.value, color=col, marker="o", linestyle="-", label=f"{label}: lower")
+        ax.plot(it, h[:, 1] / p.value, color=col, marker="s", linestyle="--", label=f"{label}: upper")
+        gap = np.maximum((h[:, 1] - h[:, 0]) / np.abs(h[:, 1]), 1e-16)
+        ax2.semilogy(it, gap, color=col, marker="o", label=label)
+    ax.axhline(1.0, color="k", linewidth=0.7)
+    ax.set_xlabel("iteration")
+    ax.set_ylabel("bound / final value")
+    ax.set_title("lower and upper bounds on $V_{W,M}(x)$", fontsize=10)
+    _legend_below(ax, ncol=2, offset=-0.22)
+    ax2.set_xlabel("iteration")
+    ax2.set_ylabel("(upper - lower) / upper")
+    ax2.set_title("relative gap", fontsize=10)
+    _legend_below(ax2, ncol=2, offset=-0.22)
+    for a in (ax, ax2):
+        a.xaxis.get_major_locator().set_params(integer=True)
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def minmax_pareto(constants, preview=None, title: str | None = None) -> Figure:
+    """The pairs (γ̄_W, ᾱ_W) with V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖² (the class of Lemma 6).
+
+    ``constants``: :class:`~orrc.certify.MinMaxConstants`. Drawn on log axes: its curve (certified,
+    or sampled for an estimate), the lower curve of exact samples (``info["lower_pareto"]``, when
+    present: the true curve lies between), the chosen pair (star), the horizon threshold
+    ᾱ_W < α_lo √(M-1) (dotted) and, when ``preview`` (:class:`~orrc.certify.Constants` of the
+    preview problem at the same M) is given, the paper's pair (γ̄ M, ᾱ) (a cross) and the
+    smallest admissible γ̄_W, V_{W,M}(0)/max‖w‖² (dashed vertical line).
+    """
+    from ..certify import Constants, MinMaxConstants
+
+    if not isinstance(constants, MinMaxConstants):
+        raise OrrcValueError(f"constants must be orrc.certify.MinMaxConstants (minmax_constants); got "
+                             f"{type(constants).__name__}")
+    if preview is not None and not isinstance(preview, Constants):
+        raise OrrcValueError(f"preview must be orrc.certify.Constants (lq_constants); got {type(preview).__name__}")
+    c = constants
+    fig, ax = _figure(width=7.0, height=4.2)
+    ax = ax[0, 0]
+    gb, ah = c.pareto[:, 0], c.pareto[:, 1]
+    kind = "estimated (sampled)" if c.estimate else "certified"
+    ax.loglog(gb, ah, color="tab:blue", linewidth=1.8, label=f"{kind}: admissible on or above")
+    low = c.info.get("lower_pareto")
+    if low is not None:
+        ok = np.isfinite(low[:, 1])
+        ax.loglog(low[ok, 0], low[ok, 1], color="tab:orange", linestyle="--", linewidth=1.4,
+                  label="lower curve from exact $V_{W,M}$ at sampled $x$")
+    thr = c.alpha_lo * math.sqrt(c.M - 1)
+    ax.axhline(thr, color="tab:green", linestyle=":", linewidth=1.2,
+               label=r"threshold $\underline{\alpha}\sqrt{M-1}$")
+    ax.plot([c.gamma_bar], [c.alpha_hi], marker="*", markersize=13, color="tab:blue", markeredgecolor="k",
+            linestyle="none", label=r"chosen pair (smallest $\gamma_{c,W}$)" if c.admissible else "knee")
+    if "gamma_bar_W_min" in c.info:
+        ax.axvline(c.info["gamma_bar_W_min"], color="0.4", linestyle="--", linewidth=1.0,
+                   label=r"$V_{W,M}(0)/\max\|w\|^2$")
+    if preview is not None:
+        ax.plot([preview.gamma_bar * preview.M], [preview.alpha_hi], marker="X", markersize=10, color="tab:red",
+                linestyle="none", label=r"the paper's $(\overline{\gamma} M, \overline{\alpha})$")
+    from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+
+    ax.set_xlabel(r"$\overline{\gamma}_W$")
+    ax.set_ylabel(r"$\overline{\alpha}_W$")
+    ax.set_ylim(min(ah.min(), thr) / 1.3, 4.0 * max(ah.min(), thr))
+    ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    ax.yaxis.set_major_formatter(ScalarFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    lo_x = min(gb.min(), preview.gamma_bar * preview.M if preview is not None else gb.min()) / 2.0
+    ax.set_xlim(lo_x, min(gb.max(), 1e3 * max(c.gamma_bar, gb.min())))
+    _legend_below(ax, ncol=2, offset=-0.18)
+    ax.set_title(title or f"M = {c.M}: the pairs of the class of Lemma 6 ({kind})", fontsize=10)
+    return fig
+
+
+def lemma6_check(lemma6, value_bound=None, title: str | None = None, fast: bool = False) -> Figure:
+    """Lemma 6 along a trajectory of Algorithm 3, from :func:`orrc.checks.lemma6_margins` (``lemma6``).
+
+    Top: V^t_{W,M}(x_t) with its lower bound α_lo σ(x_t) and, when ``value_bound``
+    (:func:`orrc.checks.minmax_value_bound_margins`) is given, the upper bound ᾱ_W σ(x_t) +
+    γ̄_W max‖w‖² (log scale). Bottom: the increments V^{t+1} - V^t and the bound
+    Γ_{W,V} σ(x_t) + Γ^γ_{W,V} max‖w‖² (symmetric log scale). The title gives the smallest margin.
+    The figure of Lemma 1 (:func:`orrc.viz.theory_plots.lemma1_check`) with Lemma 6's labels, stacked.
+    """
+    from ..checks import Lemma1Margins
+
+    if not isinstance(lemma6, Lemma1Margins):
+        raise OrrcValueError(f"lemma6 must be the result of orrc.checks.lemma6_margins; got {type(lemma6).__name__}")
+    return lemma1_check(lemma6, value_bound, title=title, fast=fast, stacked=True, labels={
+        "value": r"$V^t_{W,M}(x_t)$",
+        "upper": r"$\overline{\alpha}_W\sigma(x_t) + \overline{\gamma}_W\max\|w\|^2$",
+        "bound": r"bound $\Gamma_{W,V}\sigma(x_t) + \Gamma^\gamma_{W,V}\max\|w\|^2$",
+        "increment": r"$V^{t+1}_{W,M} - V^t_{W,M}$",
+        "Gamma": r"\Gamma_{W,V}",
+        "Gamma_gamma": r"\Gamma^\gamma_{W,V}"})
+
+
+def theorem3_growth(runs: dict, gamma: float, w_max_sq: float, title: str | None = None) -> Figure:
+    """Theorem 3 along trajectories: the cumulative cost against what the theorem allows.
+
+    ``runs``: label -> (:class:`~orrc.Trajectory`, :class:`~orrc.checks.Margins` of
+    :func:`orrc.checks.theorem3_margin` at level ``gamma``). For each run, one colour: the
+    cumulative cost Σ_{t<T} c_t (solid), Theorem 3's bound on it, C_T + γ T max‖w‖² (dashed), and
+    γ Σ_{t<T} ‖w_t‖², the same level applied to the realised disturbance energy (dotted: what a
+    guarantee in terms of the realised energy would allow; Theorem 3 does not give one). Log scale.
+    """
+    from ..checks import Margins
+    from ..simulate import Trajectory
+
+    runs = _nonempty_dict("runs", runs, "(Trajectory, Margins)")
+    gamma = as_float("gamma", gamma, minimum=0.0)
+    w_max_sq = as_float("w_max_sq", w_max_sq, minimum=0.0)
+    from matplotlib.lines import Line2D
+
+    fig, ax = _figure(width=7.0, height=4.4)
+    ax = ax[0, 0]
+    handles = []
+    for i, (label, run) in enumerate(runs.items()):
+        if not (isinstance(run, tuple) and len(run) == 2 and isinstance(run[0], Trajectory)
+                and isinstance(run[1], Margins)):
+            raise OrrcValueError(f"runs[{label!r}] must be a pair (Trajectory, Margins of theorem3_margin)")
+        tr, m = run
+        if len(m.t) != tr.T:
+            raise OrrcValueError(f"runs[{label!r}]: the margins have {len(m.t)} steps, the trajectory {tr.T}")
+        col = f"C{i}"
+        T = m.t.astype(float)
+        positive = lambda v: np.where(v > 0, v, np.nan)  # noqa: E731  (log scale: zeros left out)
+        ax.plot(T, positive(np.cumsum(tr.costs)), color=col, linewidth=1.8)
+        ax.plot(T, positive(m.bound + gamma * T * w_max_sq), color=col, linestyle="--", linewidth=1.2)
+        ax.plot(T, positive(gamma * np.cumsum(np.einsum("ij,ij->i", tr.w, tr.w))), color=col, linestyle=":",
+                linewidth=1.4)
+        handles.append(Line2D([], [], color=col, linewidth=1.8, label=label))
+    handles += [Line2D([], [], color="k", linewidth=1.8, label=r"$\sum_{t<T} c_t$"),
+                Line2D([], [], color="k", linestyle="--", linewidth=1.2,
+                       label=r"Theorem 3: $C_T + \gamma\, T \max\|w\|^2$"),
+                Line2D([], [], color="k", linestyle=":", linewidth=1.4,
+                       label=r"$\gamma \sum_{t<T}\|w_t\|^2$ (not a bound)")]
+    ax.set_yscale("log")
+    ax.set_xlabel("$T$")
+    _legend_below(ax, ncol=2, offset=-0.16, handles=handles)
+    ax.set_title(title or f"Theorem 3 at $\\gamma = \\gamma_{{c,W}} = {gamma:.4g}$", fontsize=10)
+    return fig
+
+
+def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"total cost $\sum_t c_t$") -> Figure:
+    """Grouped bars: ``costs`` maps a disturbance label to {controller label: total cost}; one
+    group per disturbance, one colour per controller (log scale)."""
+    costs = _nonempty_dict("costs", costs, "dict of controller -> total cost")
+    controllers = []
+    for k, d in costs.items():
+        d = _nonempty_dict(f"costs[{k!r}]", d, "total cost")
+        for c, v in d.items():
+            as_float(f"costs[{k!r}][{c!r}]", v, minimum=0.0)
+            if c not in controllers:
+                controllers.append(c)
+    fig, ax = _figure(width=7.0, height=4.0)
+    ax = ax[0, 0]
+    width = 0.8 / len(controllers)
+    for i, c in enumerate(controllers):
+        xs = [j + (i - (len(controllers) - 1) / 2) * width for j in range(len(costs))]
+        vals = [costs[k].get(c, np.nan) for k in costs]
+        ax.bar(xs, vals, width=width * 0.95, color=controller_color(c, i), label=c)
+    ax.set_xticks(range(len(costs)))
+    ax.set_xticklabels(list(costs), fontsize=9)
+    ax.set_yscale("log")
+    ax.set_ylabel(ylabel)
+    _legend_below(ax, ncol=2, offset=-0.14)
+    if title:
+        ax.set_title(title, fontsize=10)
+    return fig
+
+
+def minmax_frame(M: int, r: float, trajs: dict, bound=None, w_max_sq: float | None = None) -> Figure:
+    """An explorer frame for the horizon M and the size r of W = [-r, r]^n.
+
+    Top: the cumulative cost of each closed loop (``trajs``: label -> :class:`~orrc.Trajectory`,
+    all under the same disturbance). Bottom: the min-max controller's value
+    V^t_{W,M}(x_t) (the trajectory labelled with "min-max") with ``bound`` (an array over t, e.g.
+    ᾱ_W σ(x_t) + γ̄_W max‖w‖²) when given, else a message that no certified pair exists.
+    """
+    M = as_int("M", M, minimum=1)
+    r = as_float("r", r, minimum=0.0)
+    trajs = _trajs(trajs)
+    fig, axes = _figure(2, 1, width=6.4, height=7.4, fast=True,
+                        margins={"bottom": 0.14, "top": 0.92, "hspace": 0.75, "left": 0.13, "right": 0.97})
+    ax, ax2 = axes[:, 0]
+    for i, (label, tr) in enumerate(trajs.items()):
+        ax.plot(np.arange(1, tr.T + 1), np.cumsum(tr.costs), color=controller_color(label, i), linewidth=1.5,
+                label=f"{label}: {tr.costs.sum():.3g}")
+    ax.set_ylim(bottom=0.0)
+    ax.set_xlabel("$t$")
+    ax.set_ylabel(r"$\sum_{s \leq t} c_s$")
+    ax.set_title("cumulative cost (total in the legend)", fontsize=10)
+    _legend_below(ax, ncol=2, offset=-0.22)
+    mm = [tr for label, tr in trajs.items() if "min-max" in label.lower() and tr.values is not None]
+    if not mm:
+        _message(ax2, "no min-max trajectory with values")
+    else:
+        tr = mm[0]
+        t = np.arange(tr.T)
+        ax2.plot(t, tr.values, color="tab:blue", linewidth=1.6, label=r"$V^t_{W,M}(x_t)$")
+        if bound is not None:
+            bound = as_array("bound", bound, (tr.T,))
+            ax2.plot(t, bound, color="tab:red", linewidth=1.2,
+                     label=r"$\overline{\alpha}_W\sigma(x_t) + \overline{\gamma}_W\max\|w\|^2$")
+        else:
+            ax2.text(0.5, 0.9, "no certified pair at this M (below the threshold)", transform=ax2.transAxes,
+                     ha="center", fontsize=9, color="tab:red")
+        ax2.set_ylim(bottom=0.0)
+        ax2.set_xlabel("$t$")
+        ax2.set_title("the min-max value and its certified bound", fontsize=10)
+        _legend_below(ax2, ncol=1, offset=-0.22)
+    w = "" if w_max_sq is None else f", max‖w‖² = {as_float('w_max_sq', w_max_sq, minimum=0.0):.3g}"
+    fig.suptitle(f"M = {M}, W = [-{r:g}, {r:g}]" + w, fontsize=11)
+    return fig
