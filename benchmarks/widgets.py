@@ -190,16 +190,19 @@ def drive_cells(cells: list[str], quick: bool = False, max_moves: int | None = N
     frame: what a move costs before the frames are ready). One dict per explorer: ``index``,
     ``params`` (name -> number of values), ``times`` and ``cold`` (seconds per move), ``redrawn`` and
     ``cold_redrawn`` (moves that published a figure), ``stats`` (the live view's counts after the
-    first pass), ``exec_seconds`` (the cells' execution) and ``ready_seconds`` (from the end of the
+    first pass), ``exec_seconds`` (the cells' execution; ``cell_seconds`` per cell) and ``ready_seconds`` (from the end of the
     execution until every frame was drawn ahead)."""
     import json
 
     k = Kernel(ROOT / "book", kernel_env(quick))
     try:
-        found = []
+        found, cell_seconds = [], []
         t0 = time.perf_counter()
         for i, code in enumerate(cells):
-            for m in k.run(code, what=f"{what}, code cell {i + 1}"):
+            t_cell = time.perf_counter()
+            msgs = k.run(code, what=f"{what}, code cell {i + 1}")
+            cell_seconds.append(time.perf_counter() - t_cell)
+            for m in msgs:
                 data = m["content"].get("data", {})
                 view = data.get("application/vnd.jupyter.widget-view+json")
                 if m["msg_type"] in ("execute_result", "display_data") and view:
@@ -225,6 +228,7 @@ def drive_cells(cells: list[str], quick: bool = False, max_moves: int | None = N
                 k.run(f"_orrc_bench_forget({model_id!r})")
                 cold, cold_redrawn = _drive(k, info, max_moves)
             results.append({"index": len(results) + 1, "exec_seconds": exec_seconds, "ready_seconds": ready_seconds,
+                            "cell_seconds": cell_seconds,
                             "params": {s["name"]: s["n"] for s in info["sliders"]}, "times": times,
                             "redrawn": redrawn, "cold": cold, "cold_redrawn": cold_redrawn, "stats": stats})
         return results

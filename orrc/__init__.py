@@ -14,6 +14,7 @@ from .simulate import Trajectory, simulate
 from .solvers.plan import Plan, SolverError, SolverWarning
 from .systems import LinearSystem, NonlinearSystem, System
 from .parametric import LinearParametricSystem, ParametricSystem
+from ._progress import progress
 from . import config, disturbances, examples
 from . import certify, checks, estimation, theory, tradeoff
 
@@ -27,5 +28,5 @@ __all__ = [
     "Controller", "Observation", "Decision", "PreviewRHC", "EstimateThenControl", "LiftedRHC", "MinMaxRHC", "LQR",
     "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "Plan",
     "simulate", "Trajectory",
-    "attenuation_regret", "attenuation_ratio", "dynamic_regret",
+    "attenuation_regret", "attenuation_ratio", "dynamic_regret", "progress",
 ]
