@@ -1,13 +1,17 @@
-# The two commands of the README: `make book` and `make test`; for courses, `make book-student`
-# (the book without solutions) and `make assignments` (graded assignments, built and graded).
-# All create .venv from requirements.txt (pinned) on first use.
+# The three commands of the README: `make book`, `make test` and `make lab`; for courses,
+# `make book-student` (the book without solutions) and `make assignments` (graded assignments,
+# built and graded). All create .venv from requirements.txt (pinned) on first use.
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
+LAB_STAMP := $(VENV)/.lab-installed
+LAB_SETTINGS := $(VENV)/share/jupyter/lab/settings
+PORT ?= 8000
+LAB_ARGS ?=
 
-.PHONY: book test bench test-kernels clean book-student assignments
+.PHONY: book test lab serve bench test-kernels clean book-student assignments
 
 $(STAMP): requirements.txt pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -16,8 +20,9 @@ $(STAMP): requirements.txt pyproject.toml
 	$(PY) -m pip install --quiet --no-deps -e .
 	touch $(STAMP)
 
+# the published book, at full size, into _build/html (ORRC_QUICK is ignored here)
 book: $(STAMP)
-	set -eo pipefail; $(PY) -m tools.build_book
+	set -eo pipefail; env -u ORRC_QUICK $(PY) -m tools.build_book
 
 # the solution-free edition, into _build/student/html (reuses a fresh `make book`'s executed chapters)
 book-student: $(STAMP)
@@ -28,8 +33,23 @@ book-student: $(STAMP)
 assignments: $(STAMP)
 	set -eo pipefail; $(PY) -m tools.assignments
 
+# the whole suite; it builds its own, shortened, book into _build/test (never _build/html)
 test: $(STAMP)
 	set -eo pipefail; ORRC_QUICK=1 $(PY) -m pytest -q tests
+
+# JupyterLab (pinned, requirements-lab.txt) in the same .venv, chapters open as notebooks
+$(LAB_STAMP): $(STAMP) requirements-lab.txt tools/jupyterlab-overrides.json
+	$(PY) -m pip install --quiet -r requirements.txt -r requirements-lab.txt
+	mkdir -p $(LAB_SETTINGS)
+	cp tools/jupyterlab-overrides.json $(LAB_SETTINGS)/overrides.json
+	touch $(LAB_STAMP)
+
+lab: $(LAB_STAMP)
+	$(VENV)/bin/jupyter lab --ServerApp.root_dir=. $(LAB_ARGS) book/preface.md
+
+# the built book over http on localhost (search shows snippets only over http)
+serve:
+	$(PY) -m http.server --directory _build/html --bind 127.0.0.1 $(PORT)
 
 bench: $(STAMP)
 	set -eo pipefail; $(PY) -m benchmarks.run

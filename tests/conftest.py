@@ -12,23 +12,60 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-# where the test session builds the book: $ORRC_BOOK_OUT/_build, else the repository's _build
-BOOK_OUT = Path(os.environ.get("ORRC_BOOK_OUT", ROOT))
+# Where the test session builds the book: a folder of its own, never the published
+# _build/html (which only `make book` writes, at full size). ORRC_BOOK_OUT=/some/dir moves
+# everything the tests write (the test build and the screenshots) to /some/dir/_build.
+BUILD_ROOT = Path(os.environ.get("ORRC_BOOK_OUT", ROOT)) / "_build"
+BOOK_OUT = BUILD_ROOT / "test"          # jupyter-book's --path-output for the test build
+BOOK_HTML = BOOK_OUT / "_build" / "html"
+PUBLISHED_HTML = ROOT / "_build" / "html"
+SHOTS = BUILD_ROOT / "screenshots"
+
+
+def tree_fingerprint(folder: Path):
+    """(relative path, size, mtime in ns) of every file below ``folder``, sorted; None when it
+    does not exist. Two equal fingerprints: nothing was written, touched or removed there."""
+    folder = Path(folder)
+    if not folder.exists():
+        return None
+    return sorted((str(p.relative_to(folder)), p.stat().st_size, p.stat().st_mtime_ns)
+                  for p in folder.rglob("*") if p.is_file())
 
 
 @pytest.fixture(scope="session")
 def book():
-    """Build the whole book once per session (every chapter executed, ORRC_QUICK=1 sizes).
+    """Build the whole book once per session (every chapter executed, ORRC_QUICK=1 sizes)
+    into BOOK_OUT (``_build/test``), never into the published ``_build/html``.
 
-    Returns the build's exit code, duration and start time (a wall-clock timestamp, to tell
-    this build's outputs from older ones). Used by tests/test_book.py (the HTML) and
-    tests/test_chapters.py (the executed notebooks).
+    Returns the build's exit code, duration, start time (a wall-clock timestamp, to tell
+    this build's outputs from older ones) and the fingerprint of the published
+    ``_build/html`` taken before the build (tests/test_book.py checks that the session
+    leaves it untouched). Used by tests/test_book.py (the HTML) and tests/test_chapters.py
+    (the executed notebooks).
     """
     from tools.build_book import build
 
+    published = tree_fingerprint(PUBLISHED_HTML)
     started, t0 = time.time(), time.perf_counter()
     rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")})
-    return {"rc": rc, "seconds": time.perf_counter() - t0, "started": started}
+    return {"rc": rc, "seconds": time.perf_counter() - t0, "started": started, "published": published}
+
+
+def assert_legible(fig, min_pt: float = 9.0, max_width: float = 7.4):
+    """A figure of the book as drawn (before orrc.viz.figures.render raises anything): at most
+    ``max_width`` inches wide (740 px at 100 dpi, inside the 757 px text column) and every
+    text, tick labels included, at least ``min_pt`` points (12.5 px at 100 dpi)."""
+    from matplotlib.text import Text
+
+    width = fig.get_size_inches()[0]
+    assert width <= max_width + 1e-9, f"the figure is {width:.2f} in wide (at most {max_width})"
+    small = [(t.get_text()[:30], t.get_fontsize()) for t in fig.findobj(Text)
+             if t.get_text().strip() and t.get_visible() and t.get_fontsize() < min_pt]
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            small += [(t.get_text()[:30], t.get_fontsize()) for t in axis.get_ticklabels()
+                      if t.get_fontsize() < min_pt]
+    assert not small, f"texts below {min_pt} pt: {small[:5]}"
 
 
 @pytest.fixture

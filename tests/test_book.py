@@ -20,6 +20,7 @@ except when ``CI`` is set, where a missing browser is a failure.
 """
 from __future__ import annotations
 
+import ast
 import html.parser
 import os
 import re
@@ -28,12 +29,11 @@ from pathlib import Path
 
 import pytest
 
-from conftest import BOOK_OUT as OUT
+from conftest import BOOK_HTML as HTML, BOOK_OUT, PUBLISHED_HTML, SHOTS, tree_fingerprint
+from tools.sphinx_offline import portable_source
 from tools.toc import notebook_pages, toc_pages
 
 ROOT = Path(__file__).resolve().parents[1]
-HTML = OUT / "_build" / "html"
-SHOTS = OUT / "_build" / "screenshots"
 MAX_PAGE_BYTES = 3_000_000
 WIDTHS = (1366, 390)
 
@@ -99,6 +99,15 @@ def test_book_builds_without_warnings_or_cell_errors(book):
         assert (HTML / f"{page}.html").is_file(), f"{page}.html was not written"
 
 
+def test_the_test_build_has_a_folder_of_its_own(book):
+    """The shortened test build never lands where readers look: ``_build/html`` is written
+    only by ``make book`` (full size); the session's build went to ``_build/test``."""
+    assert HTML.resolve() != PUBLISHED_HTML.resolve(), f"the test build writes to the published {PUBLISHED_HTML}"
+    assert HTML.is_relative_to(BOOK_OUT) and (HTML / "index.html").is_file(), f"no test build in {HTML}"
+    assert tree_fingerprint(PUBLISHED_HTML) == book["published"], (
+        f"building the test book changed the published {PUBLISHED_HTML}")
+
+
 def test_no_page_loads_anything_from_the_network(book):
     mathjax = HTML / "_static" / "mathjax" / "tex-svg.js"
     assert mathjax.is_file(), "MathJax was not shipped into _static/mathjax"
@@ -150,9 +159,19 @@ def test_every_chapter_offers_its_ipynb(book, page):
     nb = nbformat.read(nb_path, as_version=4)
     nbformat.validate(nb)
     code = [c.source.strip() for c in nb.cells if c.cell_type == "code"]
-    expected = _code_cells_in_myst((ROOT / f"{page}.md").read_text(encoding="utf-8"))
+    expected = [portable_source(c) for c in _code_cells_in_myst((ROOT / f"{page}.md").read_text(encoding="utf-8"))]
     assert expected, f"{page} has no code cells?"
     assert code == expected, f"{page}.ipynb does not hold the chapter's code cells"
+    # it runs wherever orrc is installed: no import of the book's build tools, and it says so first
+    for c in code:
+        tree = ast.parse("\n".join(line for line in c.splitlines() if not line.lstrip().startswith(("%", "!"))))
+        imported = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+        imported |= {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
+        assert not {m for m in imported if m.split(".")[0] in ("myst_nb", "sphinx", "jupyter_book")}, \
+            f"{page}.ipynb imports the book's build tools: {sorted(imported)}"
+    first = nb.cells[0]
+    assert first.cell_type == "markdown" and "orrc" in first.source and "pip install" in first.source, \
+        f"{page}.ipynb does not start by saying where it runs"
     assert all(not c.get("outputs") for c in nb.cells if c.cell_type == "code"), "the download should be clean"
     assert nb.metadata["kernelspec"]["name"] == "python3"
     # the page's download menu links to it
@@ -264,6 +283,41 @@ def _open(chromium, page, width):
     return ctx, pg, events
 
 
+MIN_SHOWN_DPI = 99.5   # 100 px per figure inch, less a rounding of the layout
+
+# every image of the page's content that is shown (display: none ones, the other rendering of a
+# figure, have no box), with its natural and shown width and its right edge
+_SHOWN_IMAGES = """() => Array.from((document.querySelector('main') || document.body).querySelectorAll('img'))
+  .map(i => [i, i.getBoundingClientRect()]).filter(([i, r]) => r.width > 0)
+  .map(([i, r]) => ({src: i.currentSrc || i.src, natural: i.naturalWidth, shown: r.width, right: r.right}))"""
+
+
+def image_bytes(src: str, page: str) -> bytes:
+    """The bytes of an image of a page: a data: URI, or a file of the build."""
+    import base64
+    from urllib.parse import unquote, urlparse
+
+    if src.startswith("data:"):
+        return base64.b64decode(src.split(",", 1)[1])
+    return Path(unquote(urlparse(src).path)).read_bytes()
+
+
+def png_dpi(data: bytes) -> float | None:
+    """The resolution a PNG declares (its pHYs chunk, pixels per metre), in dots per inch; None without one."""
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        return None
+    i = 8
+    while i + 8 <= len(data):
+        n, kind = int.from_bytes(data[i:i + 4], "big"), data[i + 4:i + 8]
+        if kind == b"pHYs":
+            ppu, unit = int.from_bytes(data[i + 8:i + 12], "big"), data[i + 16]
+            return ppu * 0.0254 if unit == 1 else None
+        if kind == b"IDAT":
+            return None
+        i += 12 + n
+    return None
+
+
 _TEXT_OUTSIDE_CODE = """() => {
   const main = document.querySelector('main') || document.body;
   const copy = main.cloneNode(true);
@@ -309,31 +363,104 @@ def test_page_in_a_real_browser(chromium, book, page):
             # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
             overflow = pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
             assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
+            # every figure legible: shown at >= 100 px per figure inch (its fonts of >= 9 pt at >= 12.5 px)
+            # and inside the screen
+            for fig in pg.evaluate(_SHOWN_IMAGES):
+                dpi = png_dpi(image_bytes(fig["src"], page))
+                assert dpi is not None, f"{page}: an image without a resolution (not a figure PNG?): {fig['src'][:60]}"
+                shown = dpi * fig["shown"] / fig["natural"]
+                assert shown >= MIN_SHOWN_DPI, (
+                    f"{page} at {width} px: a figure {fig['natural']} px wide ({fig['natural'] / dpi:.1f} in) is shown "
+                    f"{fig['shown']:.0f} px wide, {shown:.0f} px per inch (at least {MIN_SHOWN_DPI}): its 9 pt fonts "
+                    f"would be {9 / 72 * shown:.1f} px; draw it narrower or give it a narrow variant")
+                assert fig["right"] <= width + 0.5, f"{page} at {width} px: a figure overflows to {fig['right']:.0f} px"
 
-        # every frame slider flips its figure
+        # every frame slider flips its figure (both renderings, wide and narrow)
         frames = pg.locator("div.orrc-frames")
         for i in range(frames.count()):
             box = frames.nth(i)
-            img = box.locator("img.orrc-frame")
-            assert img.count() == 1 and box.locator("input.orrc-slider").count() >= 1
+            imgs = box.locator("img.orrc-frame")
+            assert imgs.count() in (1, 2) and box.locator("input.orrc-slider").count() >= 1
+            handles = [imgs.nth(k).element_handle() for k in range(imgs.count())]
             for j in range(box.locator("input.orrc-slider").count()):
                 slider = box.locator("input.orrc-slider").nth(j)
                 top = int(slider.get_attribute("max"))
                 if top == 0:
                     continue
-                before_src = img.get_attribute("src")
+                before = [h.get_attribute("src") for h in handles]
                 before_label = box.locator("output").nth(j).inner_text()
                 start = int(slider.input_value())
                 slider.fill(str(top if start != top else 0))
-                pg.wait_for_function("([el, s]) => el.src !== s", arg=[img.element_handle(), before_src],
-                                     timeout=5_000)
+                for h, src in zip(handles, before):
+                    pg.wait_for_function("([el, s]) => el.src !== s", arg=[h, src], timeout=5_000)
+                    assert pg.evaluate("(el) => el.naturalWidth > 0", h), f"{page}: new frame broken"
                 assert box.locator("output").nth(j).inner_text() != before_label, f"{page}: label did not follow"
-                assert pg.evaluate("(el) => el.naturalWidth > 0", img.element_handle()), f"{page}: new frame broken"
                 slider.fill(str(start))  # and back
-                pg.wait_for_function("([el, s]) => el.src === s", arg=[img.element_handle(), before_src],
-                                     timeout=5_000)
+                for h, src in zip(handles, before):
+                    pg.wait_for_function("([el, s]) => el.src === s", arg=[h, src], timeout=5_000)
 
         assert not events["remote"], f"{page}: requested from the network: {events['remote']}"
         assert not events["errors"], f"{page}: " + "\n".join(events["errors"])
     finally:
         ctx.close()
+
+
+# ---------------------------------------------------------------- search, served over http
+
+@pytest.fixture(scope="module")
+def served_book(book):
+    """The test build served over http on a free localhost port (as `make serve` serves _build/html)."""
+    import functools
+    import http.server
+    import threading
+
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, *args):
+            pass
+
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(Quiet, directory=str(HTML)))
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    yield f"http://127.0.0.1:{server.server_address[1]}"
+    server.shutdown()
+    server.server_close()
+
+
+@pytest.mark.browser
+def test_search_shows_snippets_when_served_over_http(chromium, served_book):
+    """Opened from disk the browser refuses the fetches behind the snippets; served over http
+    (the README's `make serve`), the search page lists pages with a snippet of their text."""
+    ctx = chromium.new_context(viewport={"width": 1366, "height": 900})
+    remote = []
+
+    def on_route(route):
+        url = route.request.url
+        if url.startswith((served_book, "data:", "blob:")):
+            route.continue_()
+        else:
+            remote.append(url)
+            route.abort()
+
+    ctx.route("**/*", on_route)
+    try:
+        pg = ctx.new_page()
+        pg.goto(f"{served_book}/search.html?q=attenuation", wait_until="load")
+        pg.wait_for_function("() => document.querySelectorAll('ul.search li p.context').length > 0"
+                             " && Array.from(document.querySelectorAll('ul.search li p.context'))"
+                             ".some(p => p.textContent.trim().length > 20)", timeout=30_000)
+        hits = pg.evaluate("() => Array.from(document.querySelectorAll('ul.search li')).map(li => "
+                           "[li.querySelector('a').textContent, (li.querySelector('p.context') || {}).textContent || ''])")
+        assert len(hits) >= 3, f"search for 'attenuation' found {hits}"
+        with_snippet = [h for h in hits if "attenuation" in h[1].lower()]
+        assert with_snippet, f"no snippet shows the searched word: {hits[:3]}"
+        assert not remote, f"the search page requested from the network: {remote}"
+    finally:
+        ctx.close()
+
+
+# ---------------------------------------------------------------- last: the published book
+
+def test_the_session_left_the_published_book_untouched(book):
+    """After everything above (the build, the browser, the screenshots), ``_build/html`` is as
+    it was before the session: only `make book` writes it."""
+    assert tree_fingerprint(PUBLISHED_HTML) == book["published"], f"the test session changed {PUBLISHED_HTML}"

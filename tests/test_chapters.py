@@ -1,21 +1,44 @@
-"""Every chapter of the book executes top to bottom without an error (ORRC_QUICK=1 sizes).
+"""The chapters of the book, one test per chapter of _toc.yml (so that new chapters are held to the
+same rules without a change here).
 
-The chapters are MyST Markdown notebooks. The session's one book build (the ``book``
-fixture of conftest.py: forced execution of every chapter, in a fresh kernel each)
-writes each executed notebook to ``_build/jupyter_execute/<page>.ipynb``; this test
-reads them back, one test per chapter of _toc.yml, so that a failing chapter is named.
+* Every chapter executes top to bottom without an error (ORRC_QUICK=1 sizes). The session's one book
+  build (the ``book`` fixture of conftest.py: forced execution of every chapter, in a fresh kernel
+  each) writes each executed notebook to ``_build/test/_build/jupyter_execute/<page>.ipynb``; the
+  tests read them back. A hidden claim check (a ``remove-cell`` cell with an ``assert``) that fails
+  is a cell error, so it fails here and fails the build.
+* Visible cells hold teaching code only: the switch between the full and the test size
+  (``orrc.config``) lives in cells tagged ``remove-cell``.
+* A chapter saved unchanged by JupyterLab stays byte-identical: its header is the one jupytext writes.
+* Numbers that two chapters both quote agree.
 """
+import json
+import re
+
+import jupytext
 import nbformat
 import pytest
 
-from conftest import BOOK_OUT
+from conftest import BOOK_OUT, ROOT
 from tools.toc import notebook_pages
+
+CHAPTERS = notebook_pages()
+
+
+def executed(chapter):
+    return BOOK_OUT / "_build" / "jupyter_execute" / f"{chapter}.ipynb"
+
+
+def glued(chapter) -> dict:
+    """The values a chapter glued, as text: myst-nb writes them beside the executed notebook,
+    into ``<page>.glue.json`` (the notebook itself keeps no glue output)."""
+    data = json.loads(executed(chapter).with_suffix(".glue.json").read_text(encoding="utf-8"))
+    return {name: next(v for k, v in out["data"].items() if k.endswith("text/plain")) for name, out in data.items()}
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("chapter", notebook_pages())
+@pytest.mark.parametrize("chapter", CHAPTERS)
 def test_chapter_executes(book, chapter):
-    path = BOOK_OUT / "_build" / "jupyter_execute" / f"{chapter}.ipynb"
+    path = executed(chapter)
     assert path.is_file(), f"{chapter}: the build wrote no executed notebook {path}"
     assert path.stat().st_mtime >= book["started"], f"{chapter}: {path} is older than this build"
     nb = nbformat.read(path, as_version=4)
@@ -25,3 +48,97 @@ def test_chapter_executes(book, chapter):
             assert out.get("output_type") != "error", f"{chapter}: {out.get('ename')}: {out.get('evalue')}"
             if out.get("name") == "stderr":
                 assert "Traceback" not in out.get("text", ""), f"{chapter} printed a traceback"
+
+
+SIZE_SWITCH = re.compile(r"\borrc\.config\.|\bORRC_QUICK\b|\bconfig\.(quick|size)\(")
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_visible_cells_hold_teaching_code_only(chapter):
+    """The full/test size switch is not where a reader sees it: only cells tagged remove-cell use
+    ``orrc.config`` (``T = orrc.config.size(200, 80)`` there, ``T`` in the visible cell)."""
+    nb = jupytext.read(ROOT / f"{chapter}.md")
+    shown = [c.source for c in nb.cells if c.cell_type == "code"
+             and "remove-cell" not in c.metadata.get("tags", [])]
+    offending = [src.splitlines()[0] + " ..." for src in shown if SIZE_SWITCH.search(src)]
+    assert not offending, (f"{chapter}: visible cells switch sizes for the tests; move the switch into a cell "
+                           f"tagged remove-cell: {offending}")
+
+
+def jupyterlab_save(path):
+    """The text JupyterLab writes when it saves the text notebook ``path`` opened unchanged.
+
+    JupyterLab reads the file through jupytext's contents manager, records the running kernel's
+    spec (the installed ``python3`` kernel: display name "Python 3 (ipykernel)") and its
+    ``language_info`` in the notebook's metadata, and saves it back through the same contents
+    manager. With jupyter_server installed (``make lab``) this is the contents manager itself, on a
+    copy of the file; without it, the same steps with jupytext's reader and writer (what the
+    contents manager calls: ``reads``/``writes`` with the default ``JupytextConfiguration``).
+    """
+    import shutil
+    import tempfile
+    from pathlib import Path
+
+    from jupyter_client.kernelspec import KernelSpecManager
+
+    text = Path(path).read_text(encoding="utf-8")
+    name = jupytext.reads(text, fmt="md:myst").metadata.get("kernelspec", {}).get("name", "python3")
+    spec = KernelSpecManager().get_kernel_spec(name)
+    kernelspec = {"display_name": spec.display_name, "language": spec.language, "name": name}
+    language_info = {"name": "python", "mimetype": "text/x-python", "file_extension": ".py",
+                     "pygments_lexer": "ipython3", "nbconvert_exporter": "python",
+                     "codemirror_mode": {"name": "ipython", "version": 3}}
+    try:
+        from jupyter_server.services.contents.largefilemanager import LargeFileManager
+        from jupytext.sync_contentsmanager import build_sync_jupytext_contents_manager_class
+    except ImportError:
+        from jupytext.config import JupytextConfiguration
+
+        config, fmt = JupytextConfiguration(), {"extension": ".md", "format_name": "myst"}
+        nb = jupytext.reads(text, fmt=fmt, config=config)
+        nb.metadata.update(kernelspec=kernelspec, language_info=language_info)
+        return jupytext.writes(nb, fmt=fmt, config=config)
+    with tempfile.TemporaryDirectory() as tmp:
+        shutil.copy(path, Path(tmp) / Path(path).name)
+        cm = build_sync_jupytext_contents_manager_class(LargeFileManager)(root_dir=tmp)
+        model = cm.get(Path(path).name)
+        model["content"]["metadata"].update(kernelspec=kernelspec, language_info=language_info)
+        cm.save(model, Path(path).name)
+        return (Path(tmp) / Path(path).name).read_text(encoding="utf-8")
+
+
+def jupytext_header() -> str:
+    """The header jupytext writes for a MyST notebook of this repository's pinned jupytext."""
+    from jupyter_client.kernelspec import KernelSpecManager
+
+    spec = KernelSpecManager().get_kernel_spec("python3")
+    return ("---\njupytext:\n  text_representation:\n    extension: .md\n    format_name: myst\n"
+            f"    format_version: 0.13\n    jupytext_version: {jupytext.__version__}\nkernelspec:\n"
+            f"  display_name: {spec.display_name}\n  language: {spec.language}\n  name: python3\n---\n")
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_saving_a_chapter_in_jupyterlab_leaves_it_byte_identical(chapter):
+    path = ROOT / f"{chapter}.md"
+    original = path.read_text(encoding="utf-8")
+    saved = jupyterlab_save(path)
+    if saved != original:
+        import difflib
+
+        diff = "".join(list(difflib.unified_diff(original.splitlines(True), saved.splitlines(True),
+                                                 "in git", "after a save in JupyterLab"))[:40])
+        pytest.fail(f"{chapter}.md changes when JupyterLab saves it unchanged. Start the chapter with exactly "
+                    f"the header jupytext writes:\n\n{jupytext_header()}\n(and keep the cells as jupytext writes "
+                    f"them). The change:\n{diff}")
+
+
+def _number(text: str) -> float:
+    return float(json.loads(text) if text.strip().startswith('"') else text)
+
+
+@pytest.mark.slow
+def test_the_van_der_pol_gamma_c_is_the_same_on_the_lemma1_and_theorem1_pages(book):
+    """Both pages estimate the Van der Pol constants at M = 40 by the same sampling (30 samples,
+    seed 0), at both sizes, so they quote the same estimated γ_c."""
+    l1, t1 = glued("book/lemma1"), glued("book/theorem1")
+    assert _number(l1["l1-vdp-gc"]) == pytest.approx(_number(t1["t1-vdp-gc40"]), rel=1e-12)

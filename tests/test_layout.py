@@ -32,6 +32,8 @@ PUBLIC = {
     "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "MinMaxRHC", "LQR", "Clairvoyant",
                          "ZeroInput", "FailureLadder", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal",
                          "LiftedRHC", "EstimateThenControl", "Excitation"],
+    "orrc.viz": ["explore", "Explorer", "figure_to_png", "figures", "glue", "plots", "theory_plots", "comparison_plots",
+                 "unknown_plots", "minmax_plots"],
 }
 
 SECTIONS = {
@@ -39,6 +41,7 @@ SECTIONS = {
     "orrc.certify": ["constants", "sampled", "attenuation", "regret", "lipschitz", "minmax"],
     "orrc.checks": ["known", "unknown", "nopreview"],
     "orrc.estimation": ["excitation", "data", "linear", "parametric", "edmd"],
+    "orrc.viz": ["explore", "notebook"],
 }
 
 

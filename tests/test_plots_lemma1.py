@@ -8,6 +8,8 @@ import orrc
 from orrc import certify, checks
 from orrc.viz import theory_plots
 
+from conftest import assert_legible
+
 
 @pytest.fixture(scope="module")
 def lemma1_run():
@@ -29,10 +31,16 @@ def test_pareto_curves_draw_the_curve_and_mark_the_chosen_pair(lemma1_run):
     ax, ax2 = fig.axes[:2]
     curve = next(ln for ln in ax.get_lines() if ln.get_label() == f"M = {M}")
     np.testing.assert_allclose(curve.get_xdata(), c.pareto[:, 0])
-    np.testing.assert_allclose(curve.get_ydata(), c.pareto[:, 1])
+    # measured against the threshold: ᾱ(γ̄) / (α_lo √(M-1)), below 1 where Γ_V < 0
+    np.testing.assert_allclose(curve.get_ydata(), c.pareto[:, 1] / (c.alpha_lo * np.sqrt(M - 1)))
+    assert any(ln.get_ydata()[0] == 1.0 for ln in ax.get_lines() if len(ln.get_ydata()) == 2)
+    assert_legible(fig)
     stars = [ln for ln in ax.get_lines() if ln.get_marker() == "*"]
-    assert [(s.get_xdata()[0], s.get_ydata()[0]) for s in stars] == [(c10.gamma_bar, c10.alpha_hi),
-                                                                     (c.gamma_bar, c.alpha_hi)]
+    assert [(s.get_xdata()[0], s.get_ydata()[0]) for s in stars] == [
+        (c10.gamma_bar, pytest.approx(c10.alpha_hi / 3.0)),                       # √(10 - 1) = 3
+        (c.gamma_bar, pytest.approx(c.alpha_hi / (c.alpha_lo * np.sqrt(M - 1))))]
+    # the knee at M = 10 lies above 1 (no admissible pair), the chosen pair at M = 25 below it
+    assert stars[0].get_ydata()[0] > 1 > stars[1].get_ydata()[0]
     # right panel: γ_c only for the certified horizon, its minimum at the star
     gc_lines = [ln for ln in ax2.get_lines() if ln.get_label().startswith("M = ")]
     assert len(gc_lines) == 1
@@ -74,8 +82,7 @@ def test_lemma1_check_draws_the_margins(lemma1_run):
     np.testing.assert_allclose(upper.get_ydata(), vb.bound)
     smallest = min(l1.increment.margin.min(), l1.lower.margin.min())
     assert f"{smallest:.3g}" in fig._suptitle.get_text()
-    fast = theory_plots.lemma1_check(l1, fast=True)
-    assert isinstance(fast, Figure)
+    assert_legible(fig)
 
 
 def test_theory_plot_errors(lemma1_run):

@@ -158,6 +158,7 @@ def test_lemma2_frame_serves_the_explorer(run):
         co = theory.lemma2_coefficients(M, H, a, c.alpha_hi, c.gamma_bar, b)
         return theory_plots.lemma2_frame(M, a, c.a, coef=co, margins=mg, H=H)
 
-    ex = explore(frame, a=[0.5 * c.a, c.a], live=False, dpi=30)
-    assert len(ex.frames) == 2 and ex.frames["0"] != ex.frames["1"]
+    ex = explore(frame, a=[0.5 * c.a, c.a], live=False)
+    frames = ex.frames["images"]
+    assert len(frames) == 2 and frames["0"] != frames["1"] and ex.frames["narrow"] is not None
     assert 'class="orrc-frames"' in ex.html and "orrc-slider" in ex.html

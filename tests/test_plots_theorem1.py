@@ -138,7 +138,7 @@ def test_adversary_draws_the_worst_disturbance_and_its_cost(scalar):
     T = 20
     res = certify.worst_case_attenuation(ex.system, rhc, T)
     tr = orrc.simulate(ex.system, rhc, np.zeros(1), res.w, T)
-    fig = theory_plots.adversary({"preview RHC": res.w}, {"preview RHC": tr.costs}, title="t", fast=True)
+    fig = theory_plots.adversary({"preview RHC": res.w}, {"preview RHC": tr.costs}, title="t")
     ax, ax2 = fig.axes[:2]
     np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), res.w[:, 0])
     np.testing.assert_allclose(ax2.get_lines()[0].get_ydata(), tr.costs)
@@ -233,8 +233,9 @@ def test_theorem1_frame_serves_the_explorer(scalar):
         return theory_plots.theorem1_frame(
             M, a, c.a, grid, gs, checks.theorem1_margin(traj, M, a, c.alpha_lo, c.alpha_hi, c.gamma_bar, gc))
 
-    ex = explore(frame, a=[0.5, 0.95], live=False, dpi=30)
-    assert len(ex.frames) == 2 and ex.frames["0"] != ex.frames["1"]
+    ex = explore(frame, a=[0.5, 0.95], live=False)
+    frames = ex.frames["images"]
+    assert len(frames) == 2 and frames["0"] != frames["1"] and ex.frames["narrow"] is not None
     assert 'class="orrc-frames"' in ex.html
 
 

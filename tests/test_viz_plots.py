@@ -78,8 +78,9 @@ def test_other_figures_and_explorer_frame(scalar_runs):
     from orrc.viz import explore
 
     ex = explore(lambda gamma: plots.rhc_frame(trajs["LQR"], trajs["clairvoyant"], gamma), gamma=[1.0, 2.0],
-                 live=False, dpi=40)
-    assert len(ex.frames) == 2 and ex.frames["0"] != ex.frames["1"]
+                 live=False)
+    frames = ex.frames["images"]
+    assert len(frames) == 2 and frames["0"] != frames["1"] and ex.frames["narrow"] is not None
 
 
 def test_table_formats_and_checks_rows():

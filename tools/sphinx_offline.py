@@ -17,7 +17,10 @@ Loaded by ``_config.yml`` (``sphinx: local_extensions: {sphinx_offline: tools}``
 4. offers each chapter as a plain ``.ipynb``: the chapter's MyST source is converted
    with jupytext (cells only, no outputs) into ``_build/html/_sources/<page>.ipynb``
    and sphinx-book-theme's download menu gets its ``.ipynb`` entry
-   (the theme shows it when the page context has ``ipynb_source``).
+   (the theme shows it when the page context has ``ipynb_source``). The notebook opens
+   with a cell that says where it runs (wherever ``orrc`` is installed), and a bare
+   ``from myst_nb import glue`` becomes ``from orrc.viz import glue`` (myst-nb's glue
+   when myst-nb is there, a plain store otherwise), so the download needs only ``orrc``.
 """
 from __future__ import annotations
 
@@ -26,6 +29,7 @@ import shutil
 from importlib import metadata
 from pathlib import Path
 
+import nbformat
 from sphinx.application import Sphinx
 from sphinx.errors import ExtensionError
 
@@ -119,6 +123,26 @@ def drop_dead_assets(app: Sphinx, pagename, templatename, context, doctree) -> N
             files[:] = [f for f in files if not _is_dead(f)]
 
 
+DOWNLOAD_NOTE = ("*{title}*, a chapter of the book *Online Learning Robust Control*, as a plain "
+                 "Jupyter notebook. It runs wherever the `orrc` package is installed with the book's "
+                 "extras: from the repository, `pip install -e '.[book]'` (or `make lab`, which also "
+                 "opens the chapters in JupyterLab). The rendered book has the outputs, the glued "
+                 "numbers and the references to the other chapters.")
+
+_BARE_GLUE = re.compile(r"^from myst_nb import glue\b", re.M)
+
+
+def portable_source(code: str) -> str:
+    """A code cell's source with ``from myst_nb import glue`` replaced by ``from orrc.viz import glue``."""
+    return _BARE_GLUE.sub("from orrc.viz import glue", code)
+
+
+def _plain(title: str) -> str:
+    import html
+
+    return html.unescape(re.sub(r"<[^>]+>", "", str(title))).strip()
+
+
 def notebook_download(app: Sphinx, pagename, templatename, context, doctree) -> None:
     """Write ``_sources/<page>.ipynb`` from a chapter's MyST source and announce it to the theme."""
     if doctree is None or app.builder.format != "html" or pagename not in app.env.all_docs:
@@ -132,6 +156,11 @@ def notebook_download(app: Sphinx, pagename, templatename, context, doctree) -> 
     if not nb.metadata.get("kernelspec"):
         return  # a plain Markdown page (e.g. book/execution.md), not a notebook
     nb.metadata.pop("jupytext", None)
+    for cell in nb.cells:
+        if cell.cell_type == "code":
+            cell.source = portable_source(cell.source)
+    title = context.get("title") or pagename
+    nb.cells.insert(0, nbformat.v4.new_markdown_cell(DOWNLOAD_NOTE.format(title=_plain(title))))
     out = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
     out.parent.mkdir(parents=True, exist_ok=True)
     jupytext.write(nb, out, fmt="ipynb")

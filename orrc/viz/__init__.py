@@ -1,6 +1,25 @@
-"""Plotting and interactive figures for the book (imports matplotlib; not loaded by ``import orrc``)."""
-from .explore import Explorer, explore, figure_to_png
-from . import comparison_plots, minmax_plots, plots, theory_plots, unknown_plots
+"""Plotting and interactive figures for the book (imports matplotlib; not loaded by ``import orrc``).
 
-__all__ = ["explore", "Explorer", "figure_to_png", "plots", "theory_plots", "comparison_plots", "unknown_plots",
-           "minmax_plots"]
+Imported inside a Jupyter kernel, this package makes every matplotlib Figure display as
+a wide and a narrow rendering (:func:`orrc.viz.figures.install`), so that figures stay
+legible at a phone's width in the book and in JupyterLab.
+"""
+from . import comparison_plots, figures, minmax_plots, plots, theory_plots, unknown_plots
+from .explore import Explorer, explore, figure_to_png
+from .notebook import glue
+
+__all__ = ["explore", "Explorer", "figure_to_png", "figures", "glue", "plots", "theory_plots", "comparison_plots",
+           "unknown_plots", "minmax_plots"]
+
+
+def _in_kernel() -> bool:
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover
+        return False
+    ip = get_ipython()
+    return ip is not None and hasattr(ip, "kernel")
+
+
+if _in_kernel():
+    figures.install()

@@ -10,28 +10,37 @@ values, and returns an :class:`Explorer` whose notebook output carries
   of JavaScript that flip between them, no kernel needed (the rendered book shows
   this one: ``_config.yml`` drops the widget mime type for the HTML builder).
 
-Because both come from the same ``plot`` function, they cannot drift apart.
+Because both come from the same ``plot`` function, they cannot drift apart. Every
+frame is rendered twice by :func:`orrc.viz.figures.render`, at 100 dpi with fonts of
+at least 9 pt: wide, and narrow for a phone (panels stacked); the page shows the one
+that fits its column (:func:`orrc.viz.figures.picture_html`).
+
 The HTML contract (used by the browser tests): a ``div.orrc-frames`` holding one
-``input[type=range]`` per parameter and one ``img.orrc-frame``.
+``input.orrc-slider[type=range]`` per parameter and a ``div.orrc-figure`` with an
+``img.orrc-frame[data-variant=wide]`` and (for a frame wider than a phone's column) an
+``img.orrc-frame[data-variant=narrow]``; the frame data (``script.orrc-frame-data``, JSON)
+holds ``images`` (wide) and ``narrow`` (or null), one PNG per combination, keyed by the
+slider positions joined with ``_``.
 """
 from __future__ import annotations
 
 import base64
 import html
-import io
 import itertools
 import json
 import math
 import uuid
 
 from .._validate import OrrcValueError, as_int, check_size
+from .figures import DPI, figure_to_png, picture_html, render  # noqa: F401 (figure_to_png: re-exported)
 
 _JS = """
 (function () {
   var root = document.getElementById(%(id)s);
   if (!root) { return; }
   var frames = JSON.parse(root.querySelector('script.orrc-frame-data').textContent);
-  var img = root.querySelector('img.orrc-frame');
+  var wide = root.querySelector('img.orrc-frame[data-variant=wide]');
+  var narrow = root.querySelector('img.orrc-frame[data-variant=narrow]');
   var sliders = root.querySelectorAll('input.orrc-slider');
   function update() {
     var key = [];
@@ -40,27 +49,13 @@ _JS = """
       var out = root.querySelector('output[for="' + s.id + '"]');
       if (out) { out.textContent = s.dataset.labels.split('|')[Number(s.value)]; }
     });
-    img.src = 'data:' + frames.mime + ';base64,' + frames.images[key.join('_')];
+    var k = key.join('_'), head = 'data:' + frames.mime + ';base64,';
+    wide.src = head + frames.images[k];
+    if (narrow && frames.narrow) { narrow.src = head + frames.narrow[k]; }
   }
   sliders.forEach(function (s) { s.addEventListener('input', update); });
 })();
 """
-
-
-def figure_to_png(fig, dpi: int = 80) -> bytes:
-    """Render a matplotlib figure to PNG bytes and close it."""
-    import matplotlib.pyplot as plt
-    from matplotlib.figure import Figure
-
-    if not isinstance(fig, Figure):
-        raise OrrcValueError(f"fig must be a matplotlib Figure (what the plotting function returns); got "
-                             f"{type(fig).__name__}")
-    dpi = as_int("dpi", dpi, minimum=1)
-
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
-    plt.close(fig)
-    return buf.getvalue()
 
 
 def _fmt(v) -> str:
@@ -77,18 +72,23 @@ class Explorer:
         self.widget = self._widget() if live else None
 
     def _render_frames(self) -> dict:
+        """``{"images": key -> wide PNG (base64), "narrow": key -> narrow PNG or None}``."""
         from matplotlib.figure import Figure
 
         names = list(self.params)
-        frames = {}
+        wide, narrow = {}, {}
         for idx in itertools.product(*(range(len(self.params[k])) for k in names)):
             kwargs = {k: self.params[k][i] for k, i in zip(names, idx)}
+            key = "_".join(map(str, idx))
             fig = self.plot(**kwargs)
             if not isinstance(fig, Figure):
                 raise OrrcValueError(f"plot must return a matplotlib Figure; plot({kwargs}) returned "
                                      f"{type(fig).__name__}")
-            frames["_".join(map(str, idx))] = base64.b64encode(figure_to_png(fig, self.dpi)).decode("ascii")
-        return frames
+            w, n = render(fig, self.dpi)
+            wide[key] = base64.b64encode(w).decode("ascii")
+            narrow[key] = None if n is None else base64.b64encode(n).decode("ascii")
+        has_narrow = all(v is not None for v in narrow.values())
+        return {"images": wide, "narrow": narrow if has_narrow else None}
 
     def _html(self) -> str:
         uid = "orrc-" + uuid.uuid4().hex[:10]
@@ -106,11 +106,13 @@ class Explorer:
                 f'data-labels="{html.escape("|".join(labels))}" aria-label="{html.escape(k)}">'
                 f'<output for="{sid}">{html.escape(labels[start[j]])}</output></label>')
         key = "_".join(map(str, start))
-        data = json.dumps({"mime": "image/png", "images": self.frames})
+        data = json.dumps({"mime": "image/png", **self.frames})
+        narrow = self.frames["narrow"]
+        first = picture_html(base64.b64decode(self.frames["images"][key]),
+                             None if narrow is None else base64.b64decode(narrow[key]),
+                             alt="figure", cls="orrc-frame", uid=f"{uid}-fig")
         return (f'<div class="orrc-frames" id="{uid}">'
-                + "".join(rows)
-                + f'<img class="orrc-frame" style="max-width:100%" alt="figure" '
-                  f'src="data:image/png;base64,{self.frames[key]}">'
+                + "".join(rows) + first
                 + f'<script type="application/json" class="orrc-frame-data">{data}</script>'
                 + f"<script>{_JS % {'id': json.dumps(uid)}}</script></div>")
 
@@ -146,18 +148,19 @@ class Explorer:
         return bundle
 
 
-def explore(plot, dpi: int = 80, live: bool = True, initial: dict | None = None, **params) -> Explorer:
+def explore(plot, dpi: int = DPI, live: bool = True, initial: dict | None = None, **params) -> Explorer:
     """Precompute ``plot(**kwargs)`` on the grid of ``params`` and return an :class:`Explorer`.
 
     ``params``: name -> list of values (e.g. ``M=[2, 5, 10]``); ``initial``: the
-    values shown first (default: the first of each list). Keep grids small
-    (a few values each): every combination is one precomputed image.
+    values shown first (default: the first of each list); ``dpi``: at least 100 (below
+    it tick labels are illegible). Keep grids small (a few values each): every
+    combination is two precomputed images (wide and narrow).
     """
+    dpi = as_int("dpi", dpi, minimum=DPI)
     if not callable(plot):
         raise OrrcValueError(f"plot must be a function returning a matplotlib Figure; got {type(plot).__name__}")
     if not params:
         raise OrrcValueError("explore needs at least one parameter, e.g. explore(plot, M=[5, 10])")
-    dpi = as_int("dpi", dpi, minimum=1)
     for k, v in params.items():
         if isinstance(v, (str, bytes)) or not hasattr(v, "__iter__"):
             raise OrrcValueError(f"parameter {k!r} must be a list of values; got {type(v).__name__}")

@@ -65,16 +65,21 @@ def _trajs(trajs) -> dict:
     return trajs
 
 
-_FAST_MARGINS = {"left": 0.07, "right": 0.99, "bottom": 0.17, "top": 0.84, "wspace": 0.32}
+FONT = 9          # legends, annotations and small titles: the smallest size of the book's figures
+WIDTH = 7.4       # the widest figure (inches): 740 px at 100 dpi fits the book's 757 px column
 
 
-def _figure(nrows: int = 1, ncols: int = 1, width: float = 9.0, height: float = 3.2, fast: bool = False,
+_FAST_MARGINS = {"left": 0.09, "right": 0.98, "bottom": 0.17, "top": 0.86, "wspace": 0.32}
+
+
+def _figure(nrows: int = 1, ncols: int = 1, width: float = WIDTH, height: float = 3.2, fast: bool = False,
             margins: dict | None = None, **kw):
-    """A new Figure with a grid of axes. ``fast``: fixed margins instead of the
-    constrained layout engine (about twice as fast to render; for explorer frames).
-    ``margins``: keywords of ``Figure.subplots_adjust`` (left, right, bottom, top,
-    wspace, hspace) that replace the fixed defaults under ``fast``; ignored otherwise."""
-    fig = Figure(figsize=(width, height), layout=None if fast else "constrained")
+    """A new Figure with a grid of axes, at most :data:`WIDTH` inches wide, under the constrained
+    layout. ``fast``: fixed margins instead (``margins``: keywords of ``Figure.subplots_adjust``
+    that replace the defaults), for a figure drawn on screen at this one size;
+    :func:`orrc.viz.figures.render`, which draws the book's figures at two sizes, lays a
+    fixed-margin figure out with the constrained engine anyway."""
+    fig = Figure(figsize=(min(width, WIDTH), height), layout=None if fast else "constrained")
     axes = fig.subplots(nrows, ncols, squeeze=False, **kw)
     if fast:
         fig.subplots_adjust(**{**_FAST_MARGINS, **(margins or {})})
@@ -108,7 +113,7 @@ def information_pattern(t: int, M_w: int, M_c: int, T: int) -> Figure:
     M_c = as_int("M_c", M_c, minimum=0)
     rows = [("states $x$", t, "tab:blue"), ("inputs $u$", t - 1, "tab:orange"),
             ("disturbances $w$", t + M_w - 1, "tab:red"), ("costs $c$", t + M_c - 1, "tab:green")]
-    fig, ax = _figure(width=8.0, height=2.4)
+    fig, ax = _figure(width=WIDTH, height=2.4)
     ax = ax[0, 0]
     for i, (name, last, colour) in enumerate(rows):
         y = len(rows) - 1 - i
@@ -123,6 +128,8 @@ def information_pattern(t: int, M_w: int, M_c: int, T: int) -> Figure:
     ax.set_ylim(-0.7, len(rows) + 0.1)
     ax.set_yticks([])
     ax.set_xticks(range(1, T + 1))
+    if T > 8:  # every other label (and t's), so that they stay apart on a phone's width
+        ax.set_xticklabels([str(s) if s % 2 == 1 or s == t else "" for s in range(1, T + 1)])
     ax.set_xlabel("time step")
     for side in ("left", "right", "top"):
         ax.spines[side].set_visible(False)
@@ -177,7 +184,7 @@ def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, o
     ax_x.set_ylabel(state_label or f"state $x_t[{state}]$")
     ax_c.set_xlabel("time step $t$")
     ax_c.set_ylabel(r"cumulative cost $\sum_{s\leq t} c_s$")
-    ax_c.legend(fontsize=9 if stacked else 8, loc="best")
+    ax_c.legend(fontsize=FONT, loc="best")
     return fig
 
 
@@ -187,7 +194,7 @@ def running_regret(trajs: dict, gammas) -> Figure:
     attenuation ratio Σ c_t / Σ ‖w_t‖²: the curves for γ above it end below zero."""
     trajs = _trajs(trajs)
     gammas = _gammas(gammas)
-    fig, axes = _figure(1, len(trajs), width=3.1 * len(trajs) + 0.5, height=3.3, sharex=True)
+    fig, axes = _figure(1, len(trajs), height=3.3, sharex=True)
     colours = [f"C{k}" for k in range(len(gammas))]
     for ax, (label, tr) in zip(axes[0], trajs.items()):
         t = np.arange(1, tr.T + 1)
@@ -197,7 +204,7 @@ def running_regret(trajs: dict, gammas) -> Figure:
         ax.set_title(f"{label}\nratio $\\sum c/\\sum\\|w\\|^2$ = {attenuation_ratio(tr):.3g}", fontsize=10)
         ax.set_xlabel("$t$")
     axes[0, 0].set_ylabel(r"$R^p_t(\gamma)$")
-    axes[0, -1].legend(fontsize=8, loc="best")
+    axes[0, -1].legend(fontsize=FONT, loc="best")
     return fig
 
 
@@ -217,12 +224,12 @@ def cost_vs_energy(energies, costs: dict, gammas=()) -> Figure:
     e = np.array([energies.min(), energies.max()])
     for g in _gammas(gammas) if len(gammas) else []:
         ax.plot(e, g * e, color="0.6", linewidth=0.9, linestyle=":")
-        ax.text(e[-1], g * e[-1], rf" $\gamma={g:g}$", fontsize=8, color="0.4", va="center")
+        ax.text(e[-1], g * e[-1], rf" $\gamma={g:g}$", fontsize=FONT, color="0.4", va="center")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel(r"disturbance energy $\sum_t \|w_t\|^2$")
     ax.set_ylabel(r"total cost $\sum_t c_t$")
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(fontsize=FONT, loc="upper left")
     return fig
 
 
@@ -243,7 +250,7 @@ def preview_gains(laws: dict, K_ref=None) -> Figure:
         L = np.asarray(law.L).reshape(law.m, law.M, law.n).transpose(1, 0, 2)  # (M, m, n): L_j
         items.append((label, law, np.linalg.norm(L, ord=2, axis=(1, 2))))
     ncols = 2 if K_ref is not None else 1
-    fig, axes = _figure(1, ncols, width=4.6 * ncols + 0.4, height=3.4)
+    fig, axes = _figure(1, ncols, width=WIDTH if ncols > 1 else 5.0, height=3.4)
     ax = axes[0, 0]
     for i, (label, law, norms) in enumerate(items):
         j = np.arange(law.M)
@@ -251,7 +258,7 @@ def preview_gains(laws: dict, K_ref=None) -> Figure:
         ax.semilogy(j[keep], norms[keep], marker=".", color=f"C{i}", label=label)
     ax.set_xlabel("preview index $j$ (gain on $w_{t+j}$)")
     ax.set_ylabel(r"$\|L_j\|$")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=FONT)
     if K_ref is not None:
         K_ref = np.atleast_2d(as_array("K_ref", K_ref))
         ax2 = axes[0, 1]
@@ -277,7 +284,7 @@ def cost_vs_horizon(Ms, costs: dict, optimum: dict | None = None, baseline: dict
     Ms = [as_int("M", m, minimum=1) for m in Ms]
     costs = _nonempty_dict("costs", costs, "totals per M")
     ncols = 2 if optimum else 1
-    fig, axes = _figure(1, ncols, width=4.6 * ncols + 0.4, height=3.4)
+    fig, axes = _figure(1, ncols, width=WIDTH if ncols > 1 else 5.0, height=3.4)
     ax = axes[0, 0]
     excess = []
     for i, (label, c) in enumerate(costs.items()):
@@ -296,7 +303,7 @@ def cost_vs_horizon(Ms, costs: dict, optimum: dict | None = None, baseline: dict
     ax.set_yscale("log")
     ax.set_xlabel("horizon $M$")
     ax.set_ylabel(r"total cost $J_M$ (dotted: $J^*$)")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=FONT)
     if optimum:
         axr = axes[0, 1]
         if excess and min(excess) > 0:
@@ -324,7 +331,7 @@ def disturbance_panel(ws: dict, scales=None, T: int | None = None) -> Figure:
         ax.plot(t, np.linalg.norm(w, axis=1), color="0.3", linewidth=0.8, label=r"$\|w_t\|$")
         ax.set_title(label, fontsize=10)
         ax.set_xlabel("$t$")
-    axes[0, 0].legend(fontsize=8)
+    axes[0, 0].legend(fontsize=FONT)
     if scales is not None:
         s = as_array("scales", scales, ndim=1)
         s = s[:T] if T else s
@@ -347,14 +354,14 @@ def rhc_frame(traj, reference, gamma: float, state_labels=("$x_t[0]$",), input_b
     trajs = _trajs({"traj": traj, "reference": reference})
     traj, reference = trajs["traj"], trajs["reference"]
     gamma = as_float("gamma", gamma, minimum=0.0)
-    fig, axes = _figure(1, 3, width=11.0, height=3.0, fast=True)
+    fig, axes = _figure(1, 3, height=3.0)
     ax_x, ax_u, ax_r = axes[0]
     t = np.arange(traj.T + 1)
     ax_x.plot(t, reference.x[:, 0], color="black", linestyle="--", linewidth=1.2, label="clairvoyant")
     ax_x.plot(t, traj.x[:, 0], color="tab:blue", linewidth=1.5, label="preview RHC")
     ax_x.axhline(0.0, color="0.8", linewidth=0.8, zorder=0)
     ax_x.set_ylabel(state_labels[0])
-    ax_x.legend(fontsize=8)
+    ax_x.legend(fontsize=FONT)
     ax_u.step(t[:-1], reference.u[:, 0], where="post", color="black", linestyle="--", linewidth=1.0)
     ax_u.step(t[:-1], traj.u[:, 0], where="post", color="tab:blue", linewidth=1.3)
     if input_bounds is not None:
@@ -380,13 +387,13 @@ def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
     given, the solve time per step in milliseconds."""
     iterations = _nonempty_dict("iterations", iterations, "per-step iteration counts")
     ncols = 2 if solve_times else 1
-    fig, axes = _figure(1, ncols, width=4.6 * ncols + 0.4, height=3.0)
+    fig, axes = _figure(1, ncols, width=WIDTH if ncols > 1 else 5.0, height=3.0)
     for i, (label, it) in enumerate(iterations.items()):
         it = as_array(f"iterations[{label!r}]", it, ndim=1)
         axes[0, 0].plot(np.arange(len(it)), it, color=f"C{i}", label=label, linewidth=1.2)
     axes[0, 0].set_xlabel("$t$")
-    axes[0, 0].set_ylabel("IPOPT iterations")
-    axes[0, 0].legend(fontsize=8)
+    axes[0, 0].set_ylabel("solver iterations")
+    axes[0, 0].legend(fontsize=FONT)
     if solve_times:
         for i, (label, st) in enumerate(solve_times.items()):
             st = as_array(f"solve_times[{label!r}]", st, ndim=1)
@@ -396,35 +403,48 @@ def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
     return fig
 
 
+def _math_html(text: str) -> str:
+    """``text`` as HTML, each ``$...$`` span typeset by MathJax (Sphinx's inline-math markup)."""
+    import html
+
+    parts = str(text).split("$")
+    if len(parts) % 2 == 0:  # an odd number of $: no math, show it as it is
+        return html.escape(str(text))
+    return "".join(html.escape(p) if i % 2 == 0 else
+                   f'<span class="math notranslate nohighlight">\\({html.escape(p)}\\)</span>'
+                   for i, p in enumerate(parts))
+
+
 class Table:
     """A small table that displays as HTML in notebooks and in the book (a Markdown
     table of text/markdown would not be rendered by the book's CommonMark output
-    renderer), as Markdown in ``_repr_markdown_`` and as plain text otherwise."""
+    renderer), as Markdown in ``_repr_markdown_`` and as plain text otherwise.
+    Headers and cells may hold ``$...$`` math (typeset by MathJax in the HTML)."""
 
     def __init__(self, headers, rows):
         self.headers, self.rows = headers, rows
 
     def _repr_html_(self):
-        import html
-
-        head = "".join(f"<th>{html.escape(h)}</th>" for h in self.headers)
-        body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in r) + "</tr>" for r in self.rows)
-        return (f'<table class="table orrc-table"><thead><tr>{head}</tr></thead>'
-                f"<tbody>{body}</tbody></table>")
+        head = "".join(f"<th>{_math_html(h)}</th>" for h in self.headers)
+        body = "".join("<tr>" + "".join(f"<td>{_math_html(c)}</td>" for c in r) + "</tr>" for r in self.rows)
+        return (f'<div class="orrc-table-wrap" style="overflow-x:auto"><table class="table orrc-table">'
+                f"<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
 
     def _repr_markdown_(self):
         lines = ["| " + " | ".join(self.headers) + " |", "|" + "|".join("---" for _ in self.headers) + "|"]
         return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in self.rows])
 
     def __repr__(self):
-        widths = [max(len(h), *(len(r[i]) for r in self.rows)) for i, h in enumerate(self.headers)]
+        plain = [[c.replace("$", "") for c in r] for r in [self.headers, *self.rows]]
+        widths = [max(len(r[i]) for r in plain) for i in range(len(self.headers))]
         fmt = "  ".join(f"{{:<{w}}}" for w in widths)
-        return "\n".join([fmt.format(*self.headers)] + [fmt.format(*r) for r in self.rows])
+        return "\n".join(fmt.format(*r) for r in plain)
 
 
 def table(headers, rows, digits: int = 4) -> Table:
-    """A :class:`Table` of ``rows`` under ``headers``; floats are printed with
-    ``digits`` significant digits."""
+    """A :class:`Table` of ``rows`` under ``headers``; floats are printed with ``digits``
+    significant digits, infinities as ∞ and −∞, NaN as a dash. ``$...$`` in a header or a
+    cell is math (e.g. ``"$R^p_T(1)$"``)."""
     headers = [str(h) for h in headers]
     rows = [list(r) for r in rows]
     for i, r in enumerate(rows):
@@ -434,6 +454,10 @@ def table(headers, rows, digits: int = 4) -> Table:
 
     def fmt(v):
         if isinstance(v, (float, np.floating)):
+            if np.isnan(v):
+                return "—"
+            if np.isinf(v):
+                return "∞" if v > 0 else "−∞"
             return f"{v:.{digits}g}"
         return str(v)
 

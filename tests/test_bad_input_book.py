@@ -1,0 +1,102 @@
+"""Bad input to the book's tools (orrc.viz.figures, orrc.viz.glue, orrc.viz.explore, the constants and
+margins tables, tools.build_book): a clear orrc.OrrcValueError naming the argument, never a
+traceback from deep inside matplotlib."""
+import matplotlib
+
+matplotlib.use("Agg")
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+import orrc  # noqa: E402
+from orrc.viz import explore, figures, glue, theory_plots  # noqa: E402
+
+from bad_input import assert_bad_input, case, params  # noqa: E402
+
+
+def small_figure(width=5.0):
+    fig = Figure(figsize=(width, 2.0))
+    fig.subplots().plot([0, 1], [0, 1])
+    return fig
+
+
+def a_plot(M):
+    return small_figure()
+
+
+PNG = figures.figure_to_png(small_figure())
+
+CASES = [
+    case("render-type", lambda: figures.render("not a figure"),
+         "fig", "matplotlib Figure", "str"),
+    case("render-dpi", lambda: figures.render(small_figure(), dpi=72),
+         "dpi", ">= 100", "72"),
+    case("render-dpi-float", lambda: figures.render(small_figure(), dpi=100.5),
+         "dpi", "integer"),
+    case("to-png-type", lambda: figures.figure_to_png(None),
+         "fig", "NoneType"),
+    case("to-png-dpi", lambda: figures.figure_to_png(small_figure(), dpi=50),
+         "dpi", "50"),
+    case("html-type", lambda: figures.figure_html([1, 2]),
+         "fig", "list"),
+    case("legible-nan", lambda: figures.legible(small_figure(), min_pt=float("nan")),
+         "min_pt"),
+    case("legible-range", lambda: figures.legible(small_figure(), min_pt=0.0),
+         "min_pt", "0"),
+    case("legible-type", lambda: figures.legible(np.zeros(3)),
+         "fig", "ndarray"),
+    case("narrow-too-wide", lambda: figures.narrowed(small_figure(), width=20.0),
+         "width", "20"),
+    case("narrow-inf", lambda: figures.narrowed(small_figure(), width=float("inf")),
+         "width"),
+    case("narrow-type", lambda: figures.narrowed("fig"),
+         "fig", "str"),
+    case("narrow-height", lambda: figures.narrowed(small_figure(), panel_height=0.0),
+         "panel_height"),
+    case("picture-bytes", lambda: figures.picture_html(b"not a png", None),
+         "wide", "PNG"),
+    case("picture-type", lambda: figures.picture_html("text", None),
+         "wide", "str"),
+    case("picture-small", lambda: figures.picture_html(PNG, b"GIF89a"),
+         "small", "PNG"),
+    case("picture-uid", lambda: figures.picture_html(PNG, None, uid="1 bad id"),
+         "uid", "1 bad id"),
+    case("glue-empty", lambda: glue("", 1.0),
+         "name", "non-empty string"),
+    case("glue-type", lambda: glue(3, 1.0),
+         "name", "3"),
+    case("explore-dpi", lambda: explore(a_plot, M=[1, 2], dpi=70, live=False),
+         "dpi", ">= 100", "70"),
+    case("explore-too-many-frames", lambda: explore(lambda M, a: small_figure(), M=list(range(30)), a=list(range(30)), live=False),
+         "explore over 900 frames", "too large", "limit"),
+    case("constants-table-empty", lambda: theory_plots.constants_table({}),
+         "constants", "non-empty dict"),
+    case("constants-table-type", lambda: theory_plots.constants_table({"a": 1.0}),
+         "constants['a']", 'Constants', 'float'),
+    case("constants-table-list", lambda: theory_plots.constants_table([1]),
+         "constants[0]", "Constants", "int"),
+    case("constants-table-empty-list", lambda: theory_plots.constants_table([]),
+         "constants", "empty list"),
+    case("margins-table-type", lambda: theory_plots.margins_table({"x": "margins"}),
+         "margins['x']", 'Margins', 'str'),
+    case("margins-table-none", lambda: theory_plots.margins_table(None),
+         "margins", "NoneType"),
+    case("table-row", lambda: orrc.viz.plots.table(["a", "b"], [[1.0]]),
+         "row 0", "1 cells", "2 columns"),
+    case("table-digits", lambda: orrc.viz.plots.table(["a"], [[1.0]], digits=0),
+         "digits", "0"),
+]
+
+
+@pytest.mark.parametrize("call, exc, words", params(CASES))
+def test_bad_input_is_refused_with_a_clear_message(call, exc, words):
+    assert_bad_input(call, exc, words)
+
+
+def test_a_test_size_build_is_refused_in_the_published_folder(monkeypatch):
+    """tools.build_book never writes a shortened build where readers look (_build/html)."""
+    from tools.build_book import ROOT, build
+
+    monkeypatch.setenv("ORRC_QUICK", "1")
+    with pytest.raises(ValueError, match="test-size build .* must not be written to .*_build/html"):
+        build(ROOT)
