@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import as_float, as_int, check_problem
 from ..costs import QuadraticCost
 from ..solvers import game
 from ..systems import LinearSystem, NonlinearSystem, System
@@ -88,12 +88,7 @@ class HInfinity(Controller):
     name = "H∞"
 
     def __init__(self, system: System, cost: QuadraticCost, gamma: float | None = None, preview: int = 0):
-        if not isinstance(system, System):
-            raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
-        if not isinstance(cost, QuadraticCost):
-            raise OrrcValueError(f"HInfinity needs a QuadraticCost (the cost output [Q^½x; R^½u]); got "
-                                 f"{type(cost).__name__}")
-        cost.check_dims(system.n, system.m)
+        check_problem(system, cost, quadratic=True, who="HInfinity", why_quadratic=" (the cost output [Q^½x; R^½u])")
         self.preview = as_int("preview", preview, minimum=0)
         A, B = (system.A, system.B) if isinstance(system, LinearSystem) else system.linearize()
         game.check_stabilisable(A, B)
