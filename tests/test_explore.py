@@ -203,26 +203,40 @@ def test_the_book_build_signal_is_read_from_the_environment(monkeypatch, value, 
 
 def test_live_view_draws_ahead_in_the_kernels_event_loop():
     """In a kernel the frames not yet drawn are drawn while the loop is idle (here: an asyncio loop
-    run by hand), the neighbours of the first view first; afterwards every move is from the cache."""
+    of its own, in a thread, as the kernel's runs its cells), the neighbours of the first view first;
+    afterwards every move is from the cache."""
     import asyncio
+    import threading
 
-    calls = []
+    from orrc.viz import LiveView
+
+    calls, out = [], {}
+    grid = {"M": [2, 5, 10], "gamma": [1.0, 2.0]}
 
     async def main():
-        ex = explore(line_plot(calls), M=[2, 5, 10], gamma=[1.0, 2.0], initial={"M": 5, "gamma": 1.0}, live=True)
-        for _ in range(200):
+        view = LiveView(line_plot(calls), grid, {"M": 5, "gamma": 1.0}, 100, ahead=True)
+        for _ in range(500):
             await asyncio.sleep(0.01)
-            if len(ex.view.frames) == 6:
+            if view.pending == 0:
                 break
-        return ex
+        out["view"] = view
 
-    ex = asyncio.run(main())
+    thread = threading.Thread(target=lambda: asyncio.run(main()))
+    thread.start()
+    thread.join(timeout=60)
+    view = out["view"]
     assert calls[0] == (5, 1.0) and set(calls[1:3]) == {(10, 1.0), (2, 1.0)} and calls[3] == (5, 2.0)
-    assert sorted(calls) == sorted((M, g) for M in [2, 5, 10] for g in [1.0, 2.0])
-    assert ex.view.stats["ahead"] == 5
+    assert sorted(calls) == sorted((M, g) for M in grid["M"] for g in grid["gamma"])
+    assert view.stats["ahead"] == 5 and view.pending == 0
     for M in (2, 10, 5):
-        ex.view.sliders["M"].value = M
-    assert len(calls) == 6 and ex.view.stats["on_move"] == 0 and ex.view.stats["cached"] == 3
+        view.sliders["M"].value = M
+    assert len(calls) == 6 and view.stats["on_move"] == 0 and view.stats["cached"] == 3
+
+
+def test_outside_a_kernel_nothing_is_drawn_ahead():
+    calls = []
+    ex = explore(line_plot(calls), M=[2, 5, 10], gamma=[1.0], live=True)
+    assert ex.view.pending == 2 and calls == [(2, 1.0)]
 
 
 def test_a_plotting_error_on_a_move_leaves_the_last_frame():

@@ -51,11 +51,12 @@ class LiveView:
     """Sliders (one ``SelectionSlider`` per parameter), the frame as an ``Image``, frames cached per
     grid point and drawn ahead while the kernel is idle (see the module docstring).
 
+    ``ahead``: draw the frames ahead in the running asyncio loop (default: when in a Jupyter kernel).
     ``widget``: the ``VBox`` to display. ``stats``: how many frames were drawn on a move
     (``on_move``), ahead of the reader (``ahead``) and shown from the cache (``cached``).
     """
 
-    def __init__(self, plot, params: dict, initial: dict, dpi: int, ahead: bool = True):
+    def __init__(self, plot, params: dict, initial: dict, dpi: int, ahead: bool | None = None):
         import ipywidgets as widgets
 
         self.plot, self.params, self.dpi = plot, params, dpi
@@ -75,6 +76,10 @@ class LiveView:
         for s in self.sliders.values():
             s.observe(self._moved, names="index")
         self._queue = self._order(start)
+        if ahead is None:                           # in a Jupyter kernel: its event loop runs the cells
+            from .explore import in_kernel
+
+            ahead = in_kernel()
         self._loop = _running_loop() if ahead else None
         if self._loop is not None:
             self._loop.call_soon(self._draw_ahead)
