@@ -48,7 +48,7 @@ def _orrc_bench_pending():
 def _orrc_bench_inspect(model_id):
     import json
     from ipywidgets import widgets as _w
-    box = _w.widget._instances[model_id]
+    box = _w.widget._instances.get(model_id)      # None: closed since (a progress bar, leave=False)
     kids = list(getattr(box, "children", ()))
     sliders = [k for k in kids if isinstance(k, _w.SelectionSlider)]
     others = [k for k in kids if not isinstance(k, _w.SelectionSlider)]
