@@ -189,6 +189,15 @@ class PreviewRHC(Controller):
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
                                     term_fn, solvers=_NLP_LADDERS[self.solver], solver_options=solver_options)
 
+    @property
+    def fast_affine(self):
+        """(K, feedforward) of the exact LQ path's fast path: u_t = −K x_t + feedforward(windows)[t], the
+        feed-forward of every step's own preview window in one product (:mod:`orrc.controllers.base`);
+        None off that path."""
+        if self.fast_input is None:
+            return None
+        return self.law.K, self.law.feedforward
+
     def _fast_lq_input(self, x, w_preview):
         """u_t of the exact LQ path for a time-invariant cost: what :meth:`control` returns (the
         simulator's fast path, :mod:`orrc.controllers.base`)."""
