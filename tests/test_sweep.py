@@ -1,0 +1,195 @@
+"""orrc.sweep: a parameter study gives the same table serially, on local processes and on Dask.
+
+The experiment is a small closed loop: Algorithm 1 (PreviewRHC, the exact LQ law) on the double
+integrator under random disturbances, over a grid of horizons M and seeds; and Algorithm 1 on the
+Van der Pol oscillator (a CasADi NLP built inside the function, as the parallel backends need).
+"""
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+import orrc
+
+DI = orrc.examples.double_integrator()
+VDP = orrc.examples.van_der_pol(dt=0.3, r=0.01)
+T = 30
+GRID = {"M": [1, 3, 6], "radius": [0.1, 0.5]}
+
+
+def closed_loop(M, radius, seed):
+    """Algorithm 1 on the double integrator: total cost, attenuation ratio and the state trajectory."""
+    w = orrc.disturbances.uniform_ball(T + M, 2, radius, seed=seed)
+    tr = orrc.simulate(DI.system, orrc.PreviewRHC(DI.system, DI.cost, M), np.array([1.0, 0.0]), w, T)
+    return {"cost": float(tr.costs.sum()), "ratio": orrc.attenuation_ratio(tr), "x": tr.x}
+
+
+def nonlinear_loop(M, seed):
+    """Algorithm 1 on Van der Pol: the NLP controller is built here, in the worker (CasADi does not pickle)."""
+    w = orrc.disturbances.uniform_ball(8 + M, 2, 0.1, seed=seed)
+    rhc = orrc.PreviewRHC(VDP.system, VDP.cost, M, input_bounds=VDP.input_bounds)
+    tr = orrc.simulate(VDP.system, rhc, np.array([0.5, 0.0]), w, 8)
+    return {"cost": float(tr.costs.sum()), "u": tr.u}
+
+
+def fails_at_M3(M, radius, seed):
+    if M == 3 and radius == 0.5:
+        raise ZeroDivisionError("M = 3 is where it breaks")
+    return M * radius
+
+
+def warns(M, radius):
+    warnings.warn(f"warned at M={M}", orrc.SolverWarning)
+    return M
+
+
+def config_seen(M):
+    import os
+
+    return {"max_ops": orrc.config.get_limits().max_ops, "quick": os.environ.get("ORRC_QUICK")}
+
+
+def same(a, b) -> bool:
+    """Bit for bit: equal types, equal keys in the same order, floats and arrays equal to the last bit."""
+    if type(a) is not type(b):
+        return False
+    if isinstance(a, dict):
+        return list(a) == list(b) and all(same(a[k], b[k]) for k in a)
+    if isinstance(a, (list, tuple)):
+        return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
+    if isinstance(a, np.ndarray):
+        return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+    if isinstance(a, float):
+        return np.float64(a).tobytes() == np.float64(b).tobytes()
+    return a == b
+
+
+def identical(a, b) -> bool:
+    """Two tables (or lists of rows) are the same bit for bit."""
+    return same(list(a), list(b))
+
+
+@pytest.fixture(scope="module")
+def client():
+    """A Dask LocalCluster of 2 worker processes, started once for the module and closed after it."""
+    distributed = pytest.importorskip("distributed")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")   # the cluster's own start-up notices
+        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                           silence_logs=40)
+        c = distributed.Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def test_serial_processes_and_dask_give_bit_identical_tables(client):
+    serial = orrc.sweep(closed_loop, GRID, seeds=2, backend="serial")
+    procs = orrc.sweep(closed_loop, GRID, seeds=2, backend="processes", workers=2)
+    dask = orrc.sweep(closed_loop, GRID, seeds=2, client=client)
+    assert len(serial) == 3 * 2 * 2
+    assert identical(serial, procs) and identical(serial, dask)
+    # ... and the runs really differ (the comparison could fail): different seeds, different costs
+    assert len(set(serial.column("cost"))) == len(serial)
+
+
+def test_a_nonlinear_controller_built_in_the_worker_gives_the_serial_result():
+    grid = {"M": [4, 8]}
+    assert identical(orrc.sweep(nonlinear_loop, grid, seeds=[0], backend="serial"),
+                     orrc.sweep(nonlinear_loop, grid, seeds=[0], workers=2))
+
+
+def test_rows_follow_the_grid_order_last_parameter_fastest_then_seeds():
+    table = orrc.sweep(closed_loop, GRID, seeds=2, backend="processes", workers=2, chunksize=1)
+    order = [(r["M"], r["radius"], r["replicate"]) for r in table]
+    assert order == [(M, rad, k) for M in GRID["M"] for rad in GRID["radius"] for k in range(2)]
+    points = [{"M": 6, "radius": 0.1}, {"M": 1, "radius": 0.5}]     # a list of dicts: its own order
+    assert [(r["M"], r["radius"]) for r in orrc.sweep(closed_loop, points, seeds=[3], workers=2)] == [(6, 0.1),
+                                                                                                    (1, 0.5)]
+
+
+def test_seeds_depend_on_the_grid_point_not_on_workers_or_chunks():
+    a = orrc.sweep(closed_loop, GRID, seeds=3, seed=7, backend="serial")
+    b = orrc.sweep(closed_loop, GRID, seeds=3, seed=7, workers=2, chunksize=5)
+    assert identical(a, b)
+    seeds = a.column("seed")
+    assert len(set(seeds)) == seeds.size, "independent seeds at every point and replicate"
+    # a row is reproduced by calling fn with its point and seed
+    row = a[4]
+    assert identical([closed_loop(row["M"], row["radius"], row["seed"])], [{k: row[k] for k in ("cost", "ratio", "x")}])
+    # another root seed, other seeds
+    assert not set(seeds) & set(orrc.sweep(closed_loop, GRID, seeds=3, seed=8, backend="serial").column("seed"))
+
+
+def test_common_seeds_are_the_same_at_every_grid_point():
+    table = orrc.sweep(closed_loop, GRID, seeds=2, common_seeds=True, backend="serial")
+    by_point = {}
+    for r in table:
+        by_point.setdefault((r["M"], r["radius"]), []).append(r["seed"])
+    assert len({tuple(s) for s in by_point.values()}) == 1 and len(set(next(iter(by_point.values())))) == 2
+    given = orrc.sweep(closed_loop, GRID, seeds=[11, 12], backend="serial")
+    assert [r["seed"] for r in given] == [11, 12] * 6
+
+
+def test_an_error_names_the_grid_point_and_seed_that_raised(client):
+    for kw in ({"backend": "serial"}, {"workers": 2}, {"client": client}):
+        with pytest.raises(orrc.SweepError) as info:
+            orrc.sweep(fails_at_M3, GRID, seeds=[5], **kw)
+        err = info.value
+        assert "M=3, radius=0.5, seed=5" in str(err) and "ZeroDivisionError" in str(err), kw
+        assert isinstance(err.__cause__, ZeroDivisionError) and err.point == {"M": 3, "radius": 0.5} and err.seed == 5
+        assert err.row == 3, "run 4 of 6 in grid order"
+
+
+def test_on_error_record_keeps_the_other_runs():
+    table = orrc.sweep(fails_at_M3, GRID, seeds=[5], on_error="record", workers=2)
+    bad = table.errors()
+    assert [(r["M"], r["radius"]) for r in bad] == [(3, 0.5)] and "ZeroDivisionError" in bad[0]["error"]
+    assert [r["value"] for r in table if "error" not in r] == [0.1, 0.5, 0.30000000000000004, 0.6000000000000001, 3.0]
+
+
+def test_warnings_raised_in_workers_reach_the_caller():
+    with pytest.warns(orrc.SolverWarning) as record:
+        orrc.sweep(warns, {"M": [1, 2], "radius": [0.1]}, workers=2)
+    assert sorted(str(w.message) for w in record if w.category is orrc.SolverWarning) == ["warned at M=1",
+                                                                                           "warned at M=2"]
+
+
+def test_workers_see_this_process_limits_and_run_size(monkeypatch):
+    monkeypatch.setenv("ORRC_QUICK", "1")
+    with orrc.config.limits(max_ops=3e11):
+        table = orrc.sweep(config_seen, {"M": [1, 2]}, workers=2)
+    assert [r["max_ops"] for r in table] == [3e11, 3e11] and [r["quick"] for r in table] == ["1", "1"]
+
+
+def test_no_progress_bar_in_tests_or_the_book_build_and_one_on_request(capfd, monkeypatch):
+    orrc.sweep(closed_loop, GRID, seeds=1, workers=2)    # not a terminal: silent
+    assert capfd.readouterr().err == ""
+    orrc.sweep(lambda M: M, {"M": [1, 2, 3]}, backend="serial", progress=True)
+    assert "3/3" in capfd.readouterr().err
+    sweep_module = sys.modules["orrc.sweep"]     # (orrc.sweep is the function)
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
+    assert sweep_module._interactive()
+    monkeypatch.setenv("ORRC_BOOK_BUILD", "1")
+    assert not sweep_module._interactive(), "the book's build shows no progress bar"
+
+
+def test_a_one_run_grid_runs_in_this_process():
+    import os
+
+    table = orrc.sweep(lambda: {"pid": os.getpid()}, {})
+    assert table.columns == ["pid"] and table[0]["pid"] == os.getpid()
+
+
+def test_the_table_helpers():
+    table = orrc.sweep(closed_loop, GRID, seeds=2, backend="serial")
+    assert table.params == ("M", "radius") and table.columns == ["M", "radius", "seed", "replicate", "cost", "ratio",
+                                                                 "x"]
+    assert table.column("x").shape == (12, T + 1, 2)
+    sub = table.where(M=6, radius=0.5)
+    assert len(sub) == 2 and all(r["M"] == 6 for r in sub)
+    rec = table.to_records()
+    assert rec.dtype.names == ("M", "radius", "seed", "replicate", "cost", "ratio")
+    assert np.array_equal(rec["cost"], table.column("cost"))
