@@ -5,10 +5,16 @@ min-max frames, ...) run one closed loop per grid point and seed. :func:`sweep` 
 and returns a tidy :class:`Table` (one row per run, in grid order):
 
 * **serially** (``backend="serial"``), in this process;
-* on **local processes** (``backend="processes"``, the default): a ``concurrent.futures`` process
-  pool started from a *forkserver* that has imported ``orrc`` once (the first sweep of a session
-  pays about 0.6 s for it, later ones about 0.1 s; a spawned pool pays 1.2 s every time, measured on
-  a loaded 2-core machine);
+* on **local processes** (``backend="processes"``): a ``concurrent.futures`` process pool started
+  from a *forkserver* that has imported ``orrc`` once, and the heavy modules this process already
+  uses (scipy, python-control), so that workers start without importing them (the first pool of a
+  session pays 0.6 s for orrc alone, later ones about 0.1 s on an idle machine; a spawned pool pays
+  1.2 s every time and each of its workers imports python-control again, 1 to 4 s on a loaded
+  machine);
+* **automatically** (``backend="auto"``, the default): the first run in this process, timed; the
+  others on processes if that saves more than :data:`AUTO_MIN_SAVING` seconds with the cores that
+  are idle (``os.getloadavg``), else serially. On a loaded machine that is serial, which is often
+  faster than a loop because of the one BLAS thread below;
 * on a **Dask cluster** when a ``dask.distributed.Client`` is passed (``client=``; the optional
   extra ``orrc[dask]``).
 
@@ -42,6 +48,7 @@ import numbers
 import os
 import pickle
 import sys
+import time
 import traceback
 import warnings
 
@@ -51,7 +58,10 @@ from ._validate import OrrcValueError, _describe, as_float, as_int, check_option
 
 __all__ = ["sweep", "Table", "SweepError", "BACKENDS"]
 
-BACKENDS = ("serial", "processes", "dask")
+BACKENDS = ("auto", "serial", "processes", "dask")
+#: "auto" starts worker processes only when they save more than this many seconds (the measured cost of a pool
+#: whose forkserver imports orrc, scipy and python-control on a loaded 2-core machine: 1 to 4 s)
+AUTO_MIN_SAVING = 2.0
 #: the default estimate of one call of ``fn`` (about 1 ms at 1e9 operations/s: a short closed loop)
 CALL_OPS = 1e6
 #: bytes of one row of the table per column (a dict entry and a small Python object)
@@ -267,20 +277,26 @@ def _cores() -> int:
         return os.cpu_count() or 1
 
 
+#: modules that orrc imports on first use and that take seconds to import on a loaded machine (python-control
+#: 1 to 4 s, scipy.signal 1 to 2 s): the forkserver imports those this process has already imported
+_HEAVY = ("scipy.linalg", "scipy.optimize", "scipy.signal", "scipy.sparse.linalg", "control", "threadpoolctl", "cvxpy")
+
+
 def _forkserver():
-    """The multiprocessing context of the process pools: a forkserver that imported orrc (spawn where
-    there is no forkserver)."""
+    """The multiprocessing context of the process pools: a forkserver that imported orrc and the heavy modules
+    already imported here, so that every worker forked from it starts with them (spawn where there is no
+    forkserver). The server starts with the first pool of the session and serves every later one."""
     import multiprocessing as mp
 
     try:
         ctx = mp.get_context("forkserver")
     except ValueError:  # pragma: no cover - Windows
         return mp.get_context("spawn")
-    ctx.set_forkserver_preload(["orrc"])   # takes effect when the server starts (the first pool)
+    ctx.set_forkserver_preload(["orrc"] + [m for m in _HEAVY if m in sys.modules])   # used when the server starts
     return ctx
 
 
-def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, backend: str = "processes",
+def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, backend: str | None = None,
           client=None, workers: int | None = None, chunksize: int | None = None, progress: bool | None = None,
           on_error: str = "raise", ops_per_call: float = CALL_OPS) -> Table:
     """Run ``fn(**point, seed=s)`` for every point of ``grid`` and every seed; return a :class:`Table`.
@@ -296,8 +312,11 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
         ``numpy.random.SeedSequence(seed)``: independent between points, or the same k at every point
         with ``common_seeds=True``, for comparisons on common random numbers); or a list of integer
         seeds, passed as they are at every point.
-    backend : "processes" (default: local worker processes), "serial" (this process) or "dask"
-        (``client``, or the current ``dask.distributed`` client). Passing ``client`` selects "dask".
+    backend : "auto" (processes when they pay, see the module docstring), "processes" (local worker
+        processes), "serial" (this process) or "dask" (``client``, or the current ``dask.distributed``
+        client). Passing ``client`` selects "dask". Default: the environment variable ``ORRC_SWEEP_BACKEND``
+        if set (the tests run the book's chapters with it on processes, to check that they glue the same
+        numbers), else "auto". The backend never changes the results.
     workers : worker processes (default: the cores available); ``chunksize``: runs per task (default
         about a quarter of the runs per worker, so that tasks balance).
     progress : show a progress bar (None: in an interactive session only, never in the book's build).
@@ -316,6 +335,11 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
     if not isinstance(common_seeds, bool):
         raise OrrcValueError(f"common_seeds must be True or False; got {_describe(common_seeds)}")
     k, seeds_of = _seed_plan(seeds, seed, common_seeds, n_points)
+    if backend is None:
+        backend = os.environ.get("ORRC_SWEEP_BACKEND", "").strip() or "auto"
+        if backend not in BACKENDS:
+            raise OrrcValueError(f"the environment variable ORRC_SWEEP_BACKEND must be one of {list(BACKENDS)}; "
+                                 f"got {backend!r}")
     if not isinstance(backend, str) or backend not in BACKENDS:
         raise OrrcValueError(f"backend must be one of {list(BACKENDS)}; got {_describe(backend)}")
     if on_error not in _ON_ERROR:
@@ -346,14 +370,35 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
     rows: list = [None] * runs
     bar = _bar(runs, progress)
     try:
-        if backend == "serial" or (backend == "processes" and (runs == 1 or workers == 1)):
-            _serial(fn, tasks, rows, on_error, bar)
+        if backend == "auto" and runs > 1:
+            start = time.perf_counter()
+            _serial(fn, tasks[:1], rows, on_error, bar, runs)
+            backend, workers = _auto(time.perf_counter() - start, runs - 1, workers)
+            if backend == "processes":
+                chunksize = max(1, math.ceil((runs - 1) / (4 * workers)))
+            tasks = tasks[1:]
+        if backend in ("serial", "auto") or (backend == "processes" and (len(tasks) == 1 or workers == 1)):
+            _serial(fn, tasks, rows, on_error, bar, runs)
         else:
-            _parallel(fn, tasks, rows, on_error, bar, backend, client, min(workers, runs), chunksize)
+            _parallel(fn, tasks, rows, on_error, bar, backend, client, min(workers, len(tasks)), chunksize, runs)
     finally:
         if bar is not None:
             bar.close()
     return Table(rows, names)
+
+
+def _auto(first: float, left: int, workers: int) -> tuple[str, int]:
+    """("processes", w) when w idle cores save more than AUTO_MIN_SAVING seconds on ``left`` runs of ``first``
+    seconds each; else ("serial", 1). Idle cores: the cores less the load average, plus this process's own
+    (it waits while the workers run)."""
+    try:
+        load = os.getloadavg()[0]
+    except OSError:  # pragma: no cover - no load average
+        return "serial", 1
+    w = min(workers, left, int(_cores() - load + 1))
+    if w >= 2 and first * left * (1 - 1 / w) > AUTO_MIN_SAVING:
+        return "processes", w
+    return "serial", 1
 
 
 def _check_signature(fn, point: dict, with_seed: bool):
@@ -425,7 +470,7 @@ def _failed(task, exc, tb, runs, on_error, rows):
     raise err from exc
 
 
-def _serial(fn, tasks, rows, on_error, bar):
+def _serial(fn, tasks, rows, on_error, bar, runs):
     from .solvers.lq import _one_blas_thread
 
     with _one_blas_thread():
@@ -433,14 +478,14 @@ def _serial(fn, tasks, rows, on_error, bar):
             try:
                 value = _call(fn, task[1], task[2])
             except Exception as exc:
-                _failed(task, exc, "", len(tasks), on_error, rows)
+                _failed(task, exc, "", runs, on_error, rows)
             else:
                 rows[task[0]] = _row(task, value)
             if bar is not None:
                 bar.update(1)
 
 
-def _parallel(fn, tasks, rows, on_error, bar, backend, client, workers, chunksize):
+def _parallel(fn, tasks, rows, on_error, bar, backend, client, workers, chunksize, runs):
     import cloudpickle
 
     from .config import get_limits
@@ -454,15 +499,16 @@ def _parallel(fn, tasks, rows, on_error, bar, backend, client, workers, chunksiz
     context = ({k: v for k, v in os.environ.items() if k.startswith("ORRC_")}, vars(get_limits()))
     chunks = [[t[:3] for t in tasks[i:i + chunksize]] for i in range(0, len(tasks), chunksize)]
     registry: dict = {}
+    by_row = {t[0]: t for t in tasks}
 
     def collect(chunk, outcome):
-        for (row, ok, value, caught), task in zip(outcome, (tasks[c[0]] for c in chunk)):
+        for (row, ok, value, caught), task in zip(outcome, (by_row[c[0]] for c in chunk)):
             for category, message, filename, lineno in caught:
                 warnings.warn_explicit(message, category, filename, lineno, registry=registry)
             if ok:
                 rows[row] = _row(task, value)
             else:
-                _failed(task, value[0], value[1], len(tasks), on_error, rows)
+                _failed(task, value[0], value[1], runs, on_error, rows)
         if bar is not None:
             bar.update(len(chunk))
 
@@ -475,9 +521,9 @@ def _parallel(fn, tasks, rows, on_error, bar, backend, client, workers, chunksiz
                    "level, which must call sweep under `if __name__ == '__main__':`" if "BrokenProcessPool" in
                    type(exc).__name__ else "fn must return picklable values (numbers, arrays, dicts, orrc Trajectory "
                    "objects), not CasADi objects")
-            raise SweepError(f"the runs {first + 1} to {last + 1} of {len(tasks)} could not be completed or sent back "
+            raise SweepError(f"the runs {first + 1} to {last + 1} of {runs} could not be completed or sent back "
                              f"({type(exc).__name__}: {exc}): {why}; the first of them is "
-                             f"{_where(tasks[first], len(tasks))}", dict(tasks[first][1]), tasks[first][2], first) \
+                             f"{_where(by_row[first], runs)}", dict(by_row[first][1]), by_row[first][2], first) \
                 from exc
 
     if backend == "dask":

@@ -22,13 +22,24 @@ def captures_casadi():
     rhc = orrc.PreviewRHC(EX.system, EX.cost, 3)
     return lambda M: rhc.M + M
 
+def _with_env(name, value, call):
+    import os
+
+    old = os.environ.get(name)
+    os.environ[name] = value
+    try:
+        return call()
+    finally:
+        os.environ.pop(name) if old is None else os.environ.__setitem__(name, old)
+
+
 TABLE = orrc.sweep(f, {"M": [1, 2]}, seeds=[0], backend="serial")
 
 CASES = [
     case("sweep-fn-not-callable", lambda: orrc.sweep("f", {"M": [1]}), "fn must be callable", "'f'"),
     case("sweep-fn-wrong-keywords", lambda: orrc.sweep(f, {"N": [1]}, backend="serial"), "fn", "N", "cannot be called"),
     case("sweep-fn-takes-no-seed", lambda: orrc.sweep(lambda M: M, {"M": [1]}, seeds=2), "fn", "seed"),
-    case("sweep-fn-does-not-pickle", lambda: orrc.sweep(captures_casadi(), {"M": [1, 2]}, workers=2), "fn cannot be sent",
+    case("sweep-fn-does-not-pickle", lambda: orrc.sweep(captures_casadi(), {"M": [1, 2]}, backend="processes"), "fn cannot be sent",
          "inside fn", "backend='serial'"),
     case("sweep-fn-result-clashes", lambda: orrc.sweep(lambda M: {"M": 2 * M}, {"M": [1]}, backend="serial"),
          "fn returned the keys ['M']"),
@@ -60,6 +71,8 @@ CASES = [
          "'yes'"),
     case("sweep-backend-unknown", lambda: orrc.sweep(f, {"M": [1]}, backend="threads"), "backend must be one of",
          "'threads'"),
+    case("sweep-backend-environment", lambda: _with_env("ORRC_SWEEP_BACKEND", "threads",
+                                                       lambda: orrc.sweep(f, {"M": [1]})), "ORRC_SWEEP_BACKEND", "'threads'"),
     case("sweep-backend-dask-without-client", lambda: orrc.sweep(f, {"M": [1]}, backend="dask"), "backend='dask'",
          "client="),
     case("sweep-client-type", lambda: orrc.sweep(f, {"M": [1]}, client="tcp://127.0.0.1:8786"), "client must be",

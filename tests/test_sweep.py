@@ -97,7 +97,7 @@ def test_serial_processes_and_dask_give_bit_identical_tables(client):
 def test_a_nonlinear_controller_built_in_the_worker_gives_the_serial_result():
     grid = {"M": [4, 8]}
     assert identical(orrc.sweep(nonlinear_loop, grid, seeds=[0], backend="serial"),
-                     orrc.sweep(nonlinear_loop, grid, seeds=[0], workers=2))
+                     orrc.sweep(nonlinear_loop, grid, seeds=[0], backend="processes", workers=2))
 
 
 def test_rows_follow_the_grid_order_last_parameter_fastest_then_seeds():
@@ -105,13 +105,13 @@ def test_rows_follow_the_grid_order_last_parameter_fastest_then_seeds():
     order = [(r["M"], r["radius"], r["replicate"]) for r in table]
     assert order == [(M, rad, k) for M in GRID["M"] for rad in GRID["radius"] for k in range(2)]
     points = [{"M": 6, "radius": 0.1}, {"M": 1, "radius": 0.5}]     # a list of dicts: its own order
-    assert [(r["M"], r["radius"]) for r in orrc.sweep(closed_loop, points, seeds=[3], workers=2)] == [(6, 0.1),
-                                                                                                    (1, 0.5)]
+    table = orrc.sweep(closed_loop, points, seeds=[3], backend="processes", workers=2)
+    assert [(r["M"], r["radius"]) for r in table] == [(6, 0.1), (1, 0.5)]
 
 
 def test_seeds_depend_on_the_grid_point_not_on_workers_or_chunks():
     a = orrc.sweep(closed_loop, GRID, seeds=3, seed=7, backend="serial")
-    b = orrc.sweep(closed_loop, GRID, seeds=3, seed=7, workers=2, chunksize=5)
+    b = orrc.sweep(closed_loop, GRID, seeds=3, seed=7, backend="processes", workers=2, chunksize=5)
     assert identical(a, b)
     seeds = a.column("seed")
     assert len(set(seeds)) == seeds.size, "independent seeds at every point and replicate"
@@ -133,7 +133,7 @@ def test_common_seeds_are_the_same_at_every_grid_point():
 
 
 def test_an_error_names_the_grid_point_and_seed_that_raised(client):
-    for kw in ({"backend": "serial"}, {"workers": 2}, {"client": client}):
+    for kw in ({"backend": "serial"}, {"backend": "processes", "workers": 2}, {"client": client}):
         with pytest.raises(orrc.SweepError) as info:
             orrc.sweep(fails_at_M3, GRID, seeds=[5], **kw)
         err = info.value
@@ -143,7 +143,7 @@ def test_an_error_names_the_grid_point_and_seed_that_raised(client):
 
 
 def test_on_error_record_keeps_the_other_runs():
-    table = orrc.sweep(fails_at_M3, GRID, seeds=[5], on_error="record", workers=2)
+    table = orrc.sweep(fails_at_M3, GRID, seeds=[5], on_error="record", backend="processes", workers=2)
     bad = table.errors()
     assert [(r["M"], r["radius"]) for r in bad] == [(3, 0.5)] and "ZeroDivisionError" in bad[0]["error"]
     assert [r["value"] for r in table if "error" not in r] == [0.1, 0.5, 0.30000000000000004, 0.6000000000000001, 3.0]
@@ -151,7 +151,7 @@ def test_on_error_record_keeps_the_other_runs():
 
 def test_warnings_raised_in_workers_reach_the_caller():
     with pytest.warns(orrc.SolverWarning) as record:
-        orrc.sweep(warns, {"M": [1, 2], "radius": [0.1]}, workers=2)
+        orrc.sweep(warns, {"M": [1, 2], "radius": [0.1]}, backend="processes", workers=2)
     assert sorted(str(w.message) for w in record if w.category is orrc.SolverWarning) == ["warned at M=1",
                                                                                            "warned at M=2"]
 
@@ -159,12 +159,12 @@ def test_warnings_raised_in_workers_reach_the_caller():
 def test_workers_see_this_process_limits_and_run_size(monkeypatch):
     monkeypatch.setenv("ORRC_QUICK", "1")
     with orrc.config.limits(max_ops=3e11):
-        table = orrc.sweep(config_seen, {"M": [1, 2]}, workers=2)
+        table = orrc.sweep(config_seen, {"M": [1, 2]}, backend="processes", workers=2)
     assert [r["max_ops"] for r in table] == [3e11, 3e11] and [r["quick"] for r in table] == ["1", "1"]
 
 
 def test_no_progress_bar_in_tests_or_the_book_build_and_one_on_request(capfd, monkeypatch):
-    orrc.sweep(closed_loop, GRID, seeds=1, workers=2)    # not a terminal: silent
+    orrc.sweep(closed_loop, GRID, seeds=1, backend="processes", workers=2)    # not a terminal: silent
     assert capfd.readouterr().err == ""
     orrc.sweep(lambda M: M, {"M": [1, 2, 3]}, backend="serial", progress=True)
     assert "3/3" in capfd.readouterr().err
@@ -174,6 +174,27 @@ def test_no_progress_bar_in_tests_or_the_book_build_and_one_on_request(capfd, mo
     assert sweep_module._interactive()
     monkeypatch.setenv("ORRC_BOOK_BUILD", "1")
     assert not sweep_module._interactive(), "the book's build shows no progress bar"
+
+
+def test_auto_starts_processes_only_when_idle_cores_save_time(monkeypatch):
+    sweep_module = sys.modules["orrc.sweep"]
+    monkeypatch.setattr(sweep_module, "_cores", lambda: 2)
+    monkeypatch.setattr(sweep_module.os, "getloadavg", lambda: (0.2, 0.2, 0.2))     # an idle machine
+    assert sweep_module._auto(1.0, 10, 8) == ("processes", 2)       # 10 runs of 1 s: saves 5 s
+    assert sweep_module._auto(0.01, 10, 8) == ("serial", 1)         # 0.1 s of work: not worth a pool
+    assert sweep_module._auto(1.0, 10, 1) == ("serial", 1)          # workers=1
+    monkeypatch.setattr(sweep_module.os, "getloadavg", lambda: (5.0, 5.0, 5.0))     # other jobs hold the cores
+    assert sweep_module._auto(1.0, 10, 8) == ("serial", 1)
+
+
+def test_auto_gives_the_table_of_every_backend():
+    import os
+
+    auto = orrc.sweep(lambda M, seed: {**closed_loop(M, 0.1, seed), "pid": os.getpid()}, {"M": [1, 3]}, seeds=2)
+    assert auto[0]["pid"] == os.getpid(), "the first run is timed in this process"
+    serial = orrc.sweep(closed_loop, {"M": [1, 3], "radius": [0.1]}, seeds=2, backend="serial")
+    assert identical([{k: v for k, v in r.items() if k != "pid"} for r in auto],
+                     [{k: v for k, v in r.items() if k != "radius"} for r in serial])
 
 
 def test_a_one_run_grid_runs_in_this_process():
@@ -193,3 +214,48 @@ def test_the_table_helpers():
     rec = table.to_records()
     assert rec.dtype.names == ("M", "radius", "seed", "replicate", "cost", "ratio")
     assert np.array_equal(rec["cost"], table.column("cost"))
+
+
+# -- the book: a chapter glues the same numbers whatever the backend of its sweeps ----------------------
+def _chapters_with_sweeps():
+    from conftest import ROOT
+    from tools.toc import notebook_pages
+
+    uses = ("orrc.sweep(", "exploration_tradeoff(")     # exploration_tradeoff runs its seeds through orrc.sweep
+    return [ch for ch in notebook_pages() if any(u in (ROOT / f"{ch}.md").read_text(encoding="utf-8") for u in uses)]
+
+
+def _glued_outputs(nb) -> dict:
+    """name -> text of every value a notebook executed outside the book glued (myst-nb's glue outputs)."""
+    out = {}
+    for cell in nb.cells:
+        for o in cell.get("outputs", []):
+            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
+            if name is not None:
+                out[name] = next(v for k, v in o["data"].items() if k.endswith("text/plain"))
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("chapter", _chapters_with_sweeps())
+def test_a_chapter_glues_the_same_numbers_when_its_sweeps_run_on_processes(book, chapter, monkeypatch):
+    """The test build ran the chapter's sweeps with the default backend ("auto": serially on a loaded
+    machine); executed again with every sweep on worker processes (ORRC_SWEEP_BACKEND=processes), the
+    chapter glues the same numbers, to the last digit."""
+    import jupytext
+    from nbclient import NotebookClient
+
+    from conftest import ROOT
+    from test_chapters import glued
+
+    expected = glued(chapter)
+    monkeypatch.setenv("ORRC_SWEEP_BACKEND", "processes")
+    monkeypatch.setenv("ORRC_QUICK", "1")
+    monkeypatch.setenv("ORRC_BOOK_BUILD", "1")
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = jupytext.read(ROOT / f"{chapter}.md")
+    NotebookClient(nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(ROOT / "book")}}).execute()
+    parallel = _glued_outputs(nb)
+    assert parallel.keys() == expected.keys() and len(parallel) > 0
+    differ = {k: (expected[k], parallel[k]) for k in expected if expected[k] != parallel[k]}
+    assert not differ, f"{chapter}: glued in the build vs with every sweep on processes: {differ}"
