@@ -275,3 +275,17 @@ def test_a_chapter_glues_the_same_numbers_when_its_sweeps_run_on_processes(book,
     assert parallel.keys() == expected.keys() and len(parallel) > 0
     differ = {k: (expected[k], parallel[k]) for k in expected if expected[k] != parallel[k]}
     assert not differ, f"{chapter}: glued in the build vs with every sweep on processes: {differ}"
+
+
+@pytest.mark.slow
+def test_no_chapter_of_the_build_shows_a_progress_bar(book):
+    """The build sets ORRC_BOOK_BUILD=1: the sweeps of the chapters leave no tqdm bar in the executed notebooks."""
+    import nbformat
+
+    from conftest import BOOK_OUT
+    from tools.toc import notebook_pages
+
+    for chapter in notebook_pages():
+        nb = nbformat.read(BOOK_OUT / "_build" / "jupyter_execute" / f"{chapter}.ipynb", as_version=4)
+        bars = [i for i, c in enumerate(nb.cells) for o in c.get("outputs", []) if "orrc.sweep:" in str(o)]
+        assert not bars, f"{chapter}: a progress bar in the output of cells {bars}"
