@@ -6,9 +6,12 @@ T = 1000 closed-loop steps of Algorithm 1 with M = 50 on ``orrc.examples.two_mas
 * orrc: ``orrc.simulate(system, PreviewRHC(system, cost, M), x0, w, T)`` -- the exact LQ
   path (u_t = −K x_t − L vec(w_t..w_{t+M-1}), Lemma/closed form of ``orrc.solvers.lq``),
   which also records the stage costs c_t, σ(x_t) and V_M(x_t, w_{t:t+M-1}) of every step and
-  enforces the preview information pattern (one read-only Observation per step). The costs and
-  V_M do not feed back: they are computed after the loop, V_M = z_tᵀ H z_t for all t in one
-  matrix product (``Controller.values_batch``, issue 11);
+  enforces the preview information pattern. The costs and V_M do not feed back: they are computed
+  after the loop, V_M = z_tᵀ H z_t for all t in one matrix product (``Controller.values_batch``,
+  issue 11); and the law is affine, so the simulator takes its affine fast path
+  (``Controller.fast_affine``): the feed-forward −L vec W_t of every step's own window in one
+  product, then the closed loop x_{t+1} = (A − BK) x_t + (B f_t + w_t), one product per step, and
+  u_t after the loop;
 * a bare numpy loop with the same precomputed law (K = rhc.law.K, L = rhc.law.L) and the
   dynamics x_{t+1} = A x_t + B u_t + w_t, in three versions:
   - "floor": only the law, written as in issue 2 (u = −K x − L vec W), and the dynamics --

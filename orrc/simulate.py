@@ -174,9 +174,44 @@ def _nonfinite_report(name, C, sig, V, valid_value):
             "weights, the state or T are too large for floating point; the metrics refuse these values")
 
 
+def _windows(wpad, Mw: int, k: int):
+    """The preview windows w_{t:t+M_w-1} of the steps t < k, a read-only (k, M_w, n) view of the
+    disturbance record (no copy)."""
+    n = wpad.shape[1]
+    s0, s1 = wpad.strides
+    return np.lib.stride_tricks.as_strided(wpad, shape=(k, Mw, n), strides=(s0, s0, s1), writeable=False)
+
+
+def _affine_loop(controller, T, m, X, X_read, U, wpad, Mw, step, A, B) -> None:
+    """The closed loop of a controller that offers ``fast_affine`` (:mod:`orrc.controllers.base`):
+    u_t = −K x_t + f_t, with the feed-forward f_t of every step's own preview window from one
+    batch call before the loop. On a linear system the loop steps the closed loop
+    x_{t+1} = (A − BK) x_t + B f_t + w_t (one product per step) and the inputs u_t = −K x_t + f_t
+    follow in one product; otherwise each step computes u_t and calls the dynamics."""
+    K, feedforward = controller.fast_affine
+    F = np.asarray(feedforward(_windows(wpad, Mw, T)), dtype=float)
+    if F.shape != (T, m) or np.shape(K) != (m, X.shape[1]):
+        raise OrrcValueError(f"controller {controller.name!r}: fast_affine must give K of shape ({m}, {X.shape[1]}) "
+                             f"and a feed-forward of shape ({T}, {m}); got {np.shape(K)} and {F.shape}")
+    negK = -np.asarray(K, dtype=float)
+    if step is None:   # linear: x_{t+1} = (A − BK) x_t + (B f_t + w_t), the inputs after the loop in one product
+        Acl, E = A + B @ negK, F @ B.T + wpad[:T]
+        for t in range(T):
+            X[t + 1] = Acl @ X_read[t] + E[t]
+        U[:] = X[:T] @ negK.T + F
+        return
+    for t in range(T):
+        xt = X_read[t]
+        u = negK @ xt + F[t]
+        U[t] = u
+        X[t + 1] = step(xt, u, wpad[t])
+
+
 def _fast_loop(fast, controller, T, m, X, X_read, U, wpad, Mw, step, A, B) -> None:
     """The closed loop of a controller that offers ``fast_input`` (:mod:`orrc.controllers.base`): the
     same information (x_t read-only, the preview w_{t:t+M_w-1}), no Observation or Decision per step."""
+    if getattr(controller, "fast_affine", None) is not None:
+        return _affine_loop(controller, T, m, X, X_read, U, wpad, Mw, step, A, B)
     m_shape = (m,)
     empty_w = wpad[:0]
     for t in range(T):
@@ -197,9 +232,7 @@ def _batch_values(controller, X, wpad, Mw: int, deferred, V, has_value) -> None:
     :mod:`orrc.controllers.base`): the states x_t and the preview windows w_{t:t+M_w-1} (read-only
     views of the disturbance record, not copies)."""
     idx = np.flatnonzero(deferred)
-    n = wpad.shape[1]
-    s0, s1 = wpad.strides
-    windows = np.lib.stride_tricks.as_strided(wpad, shape=(len(V), Mw, n), strides=(s0, s0, s1), writeable=False)
+    windows = _windows(wpad, Mw, len(V))
     if len(idx) < len(V):
         windows = windows[idx]
     vals = np.asarray(controller.values_batch(X[idx], windows), dtype=float)

@@ -36,6 +36,30 @@ def sign_root_error(A, v, P) -> float:
     return eigvalsh_error(A) / float(v[P] @ v[P])
 
 
+def frequency_response_error(A, grid: int = 400) -> float:
+    """A bound on the relative rounding error of one computed value σ_max(C(e^{jω}I − A)⁻¹B + D)²
+    (a squared H∞ norm found as the peak of a frequency response), over ω on a grid of [0, π].
+
+    The solve is backward stable, so (e^{jω}I − A)⁻¹B has relative error <= N·EPS·κ₂(e^{jω}I − A)
+    (first order); the product with C, the sum with D and the largest singular value add a few
+    EPS, and squaring doubles the total: 2(N + 3)·EPS·max_ω κ₂(e^{jω}I − A)."""
+    A = np.asarray(A, dtype=float)
+    N = A.shape[0]
+    z = np.exp(1j * np.linspace(0.0, np.pi, grid))[:, None, None]
+    kappa = float(np.max(np.linalg.cond(z * np.eye(N) - A)))
+    return 2 * (N + 3) * EPS * kappa
+
+
+def level_bracket_holds(level, error, norm_sq, gamma, A_cl) -> bool:
+    """The game level's bracket against an independent closed-loop norm: γ* ∈ [level − error, level]
+    (orrc.solvers.game.optimal_game_level) and the H∞ controller built at γ >= level has a closed loop
+    whose squared H∞ norm N satisfies γ* <= N <= γ (no controller beats γ*; the controller guarantees
+    γ). So level − error <= N <= γ, up to the rounding δ of the computed N
+    (:func:`frequency_response_error` of the closed loop's A_cl)."""
+    delta = frequency_response_error(A_cl)
+    return level - error - delta * norm_sq <= norm_sq <= gamma * (1 + delta)
+
+
 def running_regret_error(costs, w, gamma) -> np.ndarray:
     """A bound on how far two ways of computing R^p_t(γ) = Σ_{s<t} c_s - γ Σ_{s<t} ‖w_s‖², t = 1..T,
     can differ (e.g. the cumulative sum of c_s - γ‖w_s‖², or the two cumulative sums subtracted).

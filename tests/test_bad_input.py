@@ -403,6 +403,10 @@ CASES = [
                                                                                n_samples=0), "n_samples"),
     case("sampled_constants-x_radius", lambda: certify.sampled_constants(pend().system, pend().cost, 5,
                                                                          x_radius=-1.0), "x_radius"),
+    case("sampled_constants-cost-dims", lambda: certify.sampled_constants(
+        pend().system, orrc.QuadraticCost(np.eye(3), [[1.0]]), 5), "n=3", "n=2"),
+    case("sampled_constants-cost-type", lambda: certify.sampled_constants(pend().system, "Q", 5), "cost",
+         "stage cost", "str"),
     case("sampled_constants-seed", lambda: certify.sampled_constants(pend().system, pend().cost, 5, seed="a"), "seed"),
     case("sampled_constants-huge", lambda: certify.sampled_constants(pend().system, pend().cost, 5, n_samples=10 ** 9),
          "n_samples=1000000000", "limit"),

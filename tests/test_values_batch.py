@@ -135,3 +135,62 @@ def test_simulate_calls_values_batch_once_with_the_deferred_steps_states_and_win
     np.testing.assert_array_equal(windows[:, :, 0], [w[t:t + 3, 0] for t in (1, 3, 5, 7)])
     np.testing.assert_allclose(traj.values, traj.x[:-1, 0] ** 2 + [w[t:t + 3, 0].sum() for t in range(9)])
     assert traj.value_valid.all()
+
+
+class Affine(orrc.Controller):
+    """A hand-written affine law u_t = −K x_t − L vec W_t offering the simulator's fast_affine path."""
+
+    def __init__(self, K, L, preview_w, cost=None):
+        self.K, self.L, self.preview_w, self.m, self.cost = K, L, preview_w, K.shape[0], cost
+        self.fast_input = lambda x, W: -K @ x - L @ W.reshape(-1)
+        self.fast_decision = Decision(u=None)
+        self.fast_affine = (K, lambda windows: -windows.reshape(len(windows), -1) @ L.T)
+
+    def control(self, obs):
+        return Decision(u=-self.K @ obs.x - self.L @ obs.w_preview.reshape(-1))
+
+
+def test_an_affine_law_gives_the_per_step_trajectory_on_linear_and_nonlinear_dynamics(two_masses):
+    """fast_affine (the feed-forward of all steps in one product, then the closed loop) gives the
+    per-step loop's x and u to 1e-12 of their scale, on a LinearSystem and on the same dynamics
+    written as a NonlinearSystem (where each step calls f)."""
+    ex, w = two_masses
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 6)
+    K, L = rhc.law.K, rhc.law.L
+    A, B = ex.system.A, ex.system.B
+    nonlinear = orrc.NonlinearSystem(lambda x, u, w_: A @ x + B @ u + w_, 4, 1)
+    for system in (ex.system, nonlinear):
+        fast = orrc.simulate(system, Affine(K, L, 6, ex.cost), ex.x0, w, 80)
+        per_step = orrc.simulate(system, PerStep(ex.system, ex.cost, 6), ex.x0, w, 80)
+        for name in ("x", "u"):
+            a, b = getattr(fast, name), getattr(per_step, name)
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * np.abs(b).max(), err_msg=f"{system.name}: {name}")
+
+
+def test_the_batched_feedforward_reads_only_each_steps_own_window(two_masses):
+    """The information pattern on the affine path: changing w_s changes no input before
+    t = s − M_w + 1, the first step whose preview window holds w_s (as its last row, which moves only
+    the plan's unweighted terminal state: the next step is the first to react)."""
+    ex, w = two_masses
+    M, s, T = 8, 50, 70
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, M)
+    w2 = w.copy()
+    w2[s] += 0.3
+    a = orrc.simulate(ex.system, rhc, ex.x0, w, T)
+    b = orrc.simulate(ex.system, rhc, ex.x0, w2, T)
+    first = s - M + 1
+    np.testing.assert_array_equal(a.u[:first], b.u[:first])
+    assert np.abs(a.u[first + 1] - b.u[first + 1]).max() > 1e-6   # and a step that sees it reacts
+
+
+@pytest.mark.parametrize("K, ff, words", [
+    (np.zeros((2, 4)), lambda W: np.zeros((len(W), 1)), "(1, 4)"),
+    (np.zeros((1, 4)), lambda W: np.zeros((len(W) - 1, 1)), "feed-forward of shape (30, 1)"),
+])
+def test_a_fast_affine_of_the_wrong_shape_is_refused_by_name(two_masses, K, ff, words):
+    ex, w = two_masses
+    ctrl = Affine(np.zeros((1, 4)), np.zeros((1, 12)), 3, ex.cost)
+    ctrl.fast_affine = (K, ff)
+    with pytest.raises(orrc.OrrcValueError, match="fast_affine") as err:
+        orrc.simulate(ex.system, ctrl, ex.x0, w, 30)
+    assert words in str(err.value)

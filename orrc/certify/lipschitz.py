@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int, check_size
+from .._validate import OrrcValueError, as_array, as_float, as_int, check_size, check_problem
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem
 
@@ -118,12 +118,8 @@ def _lq_functions(n: int, m: int, M: int, Q_bytes: bytes, R_bytes: bytes):
 
 
 def _check_lq(system, cost) -> None:
-    if not isinstance(system, LinearSystem):
-        raise OrrcValueError(f"system must be an orrc LinearSystem; got {type(system).__name__}")
-    if not isinstance(cost, QuadraticCost):
-        raise OrrcValueError(f"cost must be an orrc QuadraticCost (use sampled_lipschitz otherwise); got "
-                             f"{type(cost).__name__}")
-    cost.check_dims(system.n, system.m)
+    check_problem(system, cost, linear=True, quadratic=True,
+                  why_quadratic=" (use sampled_lipschitz otherwise)")
 
 
 def _horizon(M) -> int:
@@ -248,8 +244,7 @@ def sampled_lipschitz(model, cost: StageCost, M: int, theta, radius: float, n_sa
 
     if not isinstance(model, ParametricSystem):
         raise OrrcValueError(f"model must be an orrc.ParametricSystem; got {type(model).__name__}")
-    if not isinstance(cost, StageCost):
-        raise OrrcValueError(f"cost must be an orrc stage cost; got {type(cost).__name__}")
+    check_problem(None, cost)
     M = as_int("M", M, minimum=1)
     theta = model.check_theta(theta)
     radius = as_float("radius", radius, minimum=0.0, strict_min=True)

@@ -43,9 +43,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import theory
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import OrrcValueError, as_float, as_int, check_problem
 from ..costs import QuadraticCost, StageCost
-from ..disturbances import Ball, Box, _rng
+from ..disturbances import Box, _rng
 from ..systems import LinearSystem, System
 from .constants import Constants, _knee
 from .sampled import _SampledCurve
@@ -160,11 +160,7 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
     from ..controllers.minmax import MinMaxRHC
     from ..solvers.minmax import check_set, vertex_count
 
-    if not isinstance(system, System):
-        raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
-    if not isinstance(cost, StageCost):
-        raise OrrcValueError(f"cost must be an orrc stage cost; got {type(cost).__name__}")
-    cost.check_dims(system.n, system.m)
+    check_problem(system, cost)
     M = as_int("M", M, minimum=2)
     W = check_set(W, system.n)
     n_samples = as_int("n_samples", n_samples, minimum=1)

@@ -11,7 +11,7 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int, check_size
+from .._validate import OrrcValueError, as_float, as_int, check_size, check_problem
 from ..controllers.preview import PreviewRHC
 from ..costs import StageCost
 from ..systems import System
@@ -61,10 +61,7 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
     """
     from ..disturbances import Ball, _rng
 
-    if not isinstance(system, System):
-        raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
-    if not isinstance(cost, StageCost):
-        raise OrrcValueError(f"cost must be an orrc stage cost; got {type(cost).__name__}")
+    check_problem(system, cost)
     M = as_int("M", M, minimum=2)
     n_samples = as_int("n_samples", n_samples, minimum=1)
     grid = as_int("grid", grid, minimum=20)

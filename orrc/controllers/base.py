@@ -24,6 +24,12 @@ Observation or Decision per step (two small objects were a third of the exact LQ
 information pattern is the same. A controller offers it only when its own :meth:`control` would
 return that Decision at every such step (:class:`~orrc.PreviewRHC` on its exact LQ path, and not in a
 subclass that overrides ``control``).
+
+**Affine laws.** A fast-path controller whose input is affine, u_t = −K x_t + f(W_t) with W_t its own
+preview window, may also offer ``fast_affine = (K, feedforward)``, ``feedforward`` mapping a stack of
+windows (k, M_w, n) to their f(W_t) (k, m), each row from its own window only. The simulator then
+computes the feed-forward of all steps in one call before the loop and steps u_t = −K x_t + f_t and
+the dynamics: the window of step t still enters only u_t, as in the paper's information pattern.
 """
 from __future__ import annotations
 
@@ -90,6 +96,8 @@ class Controller:
     #: optional: ``fast_input(x, w_preview) -> u`` and the Decision of every such step (module docstring)
     fast_input = None
     fast_decision: "Decision | None" = None
+    #: optional, with ``fast_input``: ``(K, feedforward)`` of an affine law (module docstring)
+    fast_affine = None
 
     def check_run(self, system, T: int) -> None:
         """Refuse a run this controller cannot serve (called by ``simulate`` before the first step).

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_int
+from .._validate import OrrcValueError, as_int, check_problem
 from ..costs import QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from .base import Controller, Decision, Observation
@@ -32,11 +32,7 @@ class LQR(Controller):
     def __init__(self, system: System, cost: QuadraticCost):
         import control
 
-        if not isinstance(system, System):
-            raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
-        if not isinstance(cost, QuadraticCost):
-            raise OrrcValueError(f"LQR needs a QuadraticCost; got {type(cost).__name__}")
-        cost.check_dims(system.n, system.m)
+        check_problem(system, cost, quadratic=True, who="LQR")
         A, B = (system.A, system.B) if isinstance(system, LinearSystem) else system.linearize()
         try:
             K, S, _ = control.dlqr(A, B, cost.Q, cost.R)

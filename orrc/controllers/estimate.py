@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_int
+from .._validate import OrrcValueError, as_array, as_int, check_problem
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..parametric import LinearParametricSystem, ParametricSystem
 from .base import Controller, Decision, Observation
@@ -102,8 +102,7 @@ class EstimateThenControl(Controller):
         if not isinstance(model, (ParametricSystem, EDMD)):
             raise OrrcValueError(f"model must be an orrc.ParametricSystem (θ unknown) or an orrc.estimation.EDMD "
                                  f"(a dictionary); got {type(model).__name__}")
-        if not isinstance(cost, StageCost):
-            raise OrrcValueError(f"cost must be an orrc stage cost; got {type(cost).__name__}")
+        check_problem(None, cost)
         self.model, self.cost = model, cost
         self.edmd = isinstance(model, EDMD)
         n = model.n

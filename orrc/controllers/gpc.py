@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int
+from .._validate import OrrcValueError, as_array, as_float, as_int, check_problem
 from ..costs import QuadraticCost
 from ..systems import LinearSystem
 from .base import Controller, Decision, Observation
@@ -26,14 +26,9 @@ __all__ = ["DisturbanceAction", "GPC", "best_fixed_policy", "strong_stability", 
 
 
 def _linear_problem(who: str, system, cost):
-    if not isinstance(system, LinearSystem):
-        raise OrrcValueError(
-            f"{who} needs a LinearSystem: it recovers w_t = x_{{t+1}} − A x_t − B u_t, exact only for "
-            f"x_{{t+1}} = A x_t + B u_t + w_t; got {type(system).__name__}")
-    if not isinstance(cost, QuadraticCost):
-        raise OrrcValueError(f"{who} needs a QuadraticCost (its surrogate cost and gradient are quadratic); "
-                             f"got {type(cost).__name__}")
-    cost.check_dims(system.n, system.m)
+    check_problem(system, cost, linear=True, quadratic=True, who=who,
+                  why_linear=": it recovers w_t = x_{t+1} − A x_t − B u_t, exact only for x_{t+1} = A x_t + B u_t + w_t",
+                  why_quadratic=" (its surrogate cost and gradient are quadratic)")
 
 
 def _gain(system, cost, K):

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import as_float, as_int, check_problem
 from ..costs import QuadraticCost
 from ..solvers import game
 from ..systems import LinearSystem, NonlinearSystem, System
@@ -29,7 +29,13 @@ from .base import Controller, Decision, Observation
 
 __all__ = ["HInfinity", "preview_buffer_system"]
 
-GAMMA_MARGIN = 1e-5  # gamma=None: the controller is built this far (relative) above the optimal level
+# gamma=None: the controller is built this far (relative) above the optimal level γ̂ (or by twice the
+# level's error bound, if larger). γ̂ is itself certified feasible (orrc.solvers.game.optimal_game_level),
+# so any margin >= 0 builds; the margin keeps the closed loop off the boundary, where the Riccati
+# solution is ill-conditioned: it exceeds the level's error bound (about 1e-9 relative, the bisection's
+# tolerance, plus the band above γ* in which double precision cannot certify a solution), so the
+# controller is built where the certificate holds on every BLAS kernel.
+GAMMA_MARGIN = 1e-5
 
 
 def preview_buffer_system(A, B, Q, k: int):
@@ -61,14 +67,16 @@ class HInfinity(Controller):
         linearisation at the origin, as :class:`~orrc.LQR` does).
     cost : the :class:`~orrc.QuadraticCost` whose stage cost is the output's energy.
     gamma : the level, or None (default) for the optimal level, found by bisection on the game
-        Riccati equation (:func:`orrc.solvers.game.optimal_game_level`); the controller is then
-        built at ``gamma_opt·(1 + 1e-5)``, just above it (at the optimum itself the Riccati
-        equation has no stabilising solution). A given ``gamma`` at or below the optimal level
-        raises :class:`~orrc.OrrcValueError` naming that level.
+        Riccati equation (:func:`orrc.solvers.game.optimal_game_level`, certified feasible, with an
+        error bound ``gamma_opt_error``: γ* lies in [gamma_opt − gamma_opt_error, gamma_opt]); the
+        controller is then built at ``gamma_opt·(1 + 1e-5)`` (or ``gamma_opt + 2·gamma_opt_error`` if
+        larger), just above it (at the optimum itself the Riccati equation has no stabilising
+        solution, and just above it the solution is ill-conditioned). A given ``gamma`` at or below
+        the optimal level raises :class:`~orrc.OrrcValueError` naming that level.
     preview : k >= 0, the number of future disturbances w_t..w_{t+k-1} the controller sees.
 
-    Attributes: ``gamma`` (the level the controller is built at), ``gamma_opt`` (the optimal
-    level, when gamma was None), ``K`` (m, n) and ``L`` (m, k n) with u = −Kx − L vec(w_t..),
+    Attributes: ``gamma`` (the level the controller is built at), ``gamma_opt`` and
+    ``gamma_opt_error`` (the optimal level and its error bound, when gamma was None), ``K`` (m, n) and ``L`` (m, k n) with u = −Kx − L vec(w_t..),
     ``P`` the game's Riccati solution, ``Kw`` the worst-case disturbance gain.
 
     Solvers: ``scipy.linalg.solve_discrete_are`` with the indefinite weight diag(R, −γI)
@@ -80,12 +88,7 @@ class HInfinity(Controller):
     name = "H∞"
 
     def __init__(self, system: System, cost: QuadraticCost, gamma: float | None = None, preview: int = 0):
-        if not isinstance(system, System):
-            raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
-        if not isinstance(cost, QuadraticCost):
-            raise OrrcValueError(f"HInfinity needs a QuadraticCost (the cost output [Q^½x; R^½u]); got "
-                                 f"{type(cost).__name__}")
-        cost.check_dims(system.n, system.m)
+        check_problem(system, cost, quadratic=True, who="HInfinity", why_quadratic=" (the cost output [Q^½x; R^½u])")
         self.preview = as_int("preview", preview, minimum=0)
         A, B = (system.A, system.B) if isinstance(system, LinearSystem) else system.linearize()
         game.check_stabilisable(A, B)
@@ -95,11 +98,11 @@ class HInfinity(Controller):
         else:
             Ab, Bb, Qb, Eb = A, B, cost.Q, np.eye(n)
         if gamma is None:
-            self.gamma_opt = game.optimal_game_level(Ab, Bb, Qb, cost.R, E=Eb)
-            gamma = self.gamma_opt * (1.0 + GAMMA_MARGIN)
+            self.gamma_opt, self.gamma_opt_error = game.optimal_game_level(Ab, Bb, Qb, cost.R, E=Eb, with_error=True)
+            gamma = self.gamma_opt * (1.0 + max(GAMMA_MARGIN, 2.0 * self.gamma_opt_error / self.gamma_opt))
         else:
             gamma = as_float("gamma", gamma, minimum=0.0, strict_min=True)
-            self.gamma_opt = None
+            self.gamma_opt = self.gamma_opt_error = None
         self.solution = game.stationary_game(Ab, Bb, Qb, cost.R, gamma, E=Eb)
         self.gamma = float(gamma)
         Kbar = self.solution.K[0]

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError
+from .._validate import OrrcValueError, check_problem
 from ..costs import Cost, QuadraticCost, StageCost
 from .base import Controller, Decision, Observation
 from .preview import PreviewRHC
@@ -47,8 +47,7 @@ class LiftedRHC(Controller):
             if not hasattr(model, attr):
                 raise OrrcValueError(f"model must be a lifted linear model (orrc.estimation.EDMDModel); it has no "
                                      f"{attr!r}")
-        if not isinstance(cost, StageCost):
-            raise OrrcValueError(f"cost must be an orrc stage cost; got {type(cost).__name__}")
+        check_problem(None, cost)
         n = model.C.shape[0]
         cost.check_dims(n, model.B.shape[1])
         self.model, self.cost = model, cost

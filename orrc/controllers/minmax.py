@@ -5,7 +5,7 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int
+from .._validate import OrrcValueError, as_array, as_float, as_int, check_problem
 from ..costs import QuadraticCost, StageCost
 from ..disturbances import Box
 from ..systems import LinearSystem, System
@@ -70,11 +70,7 @@ class MinMaxRHC(Controller):
     def __init__(self, system: System, cost: StageCost, M: int, W, input_bounds=None, method: str = "auto",
                  tol: float | None = None, gamma: float | None = None, seed=0, exchange_options: dict | None = None,
                  max_failures: int | None = DEFAULT_MAX_FAILURES):
-        if not isinstance(system, System):
-            raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
-        if not isinstance(cost, StageCost):
-            raise OrrcValueError(f"cost must be an orrc stage cost (QuadraticCost, Cost); got {type(cost).__name__}")
-        cost.check_dims(system.n, system.m)
+        check_problem(system, cost)
         self.M = as_int("M", M, minimum=1)
         self.system, self.cost = system, cost
         self.W = check_set(W, system.n)

@@ -7,7 +7,7 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from .._validate import OrrcValueError, _describe, as_array, as_int, check_evaluates
+from .._validate import OrrcValueError, _describe, as_array, as_int, check_evaluates, check_problem
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from ..solvers import lq
@@ -121,11 +121,7 @@ class PreviewRHC(Controller):
     def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
                  terminal_cost=None, state_bounds=None, solver: str = "auto", solver_options=None,
                  max_failures: int | None = DEFAULT_MAX_FAILURES, preview_w: int | None = None, theta=None):
-        if not isinstance(system, System):
-            raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
-        if not isinstance(cost, StageCost):
-            raise OrrcValueError(f"cost must be an orrc stage cost (QuadraticCost, Cost); got {type(cost).__name__}")
-        cost.check_dims(system.n, system.m)
+        check_problem(system, cost)
         self.M = as_int("M", M, minimum=1)
         self.system, self.cost = system, cost
         self.preview_c = self.M
@@ -192,6 +188,15 @@ class PreviewRHC(Controller):
         else:
             self._nlp = ShootingNLP(system, cost, self.M, self.input_bounds, self.state_bounds,
                                     term_fn, solvers=_NLP_LADDERS[self.solver], solver_options=solver_options)
+
+    @property
+    def fast_affine(self):
+        """(K, feedforward) of the exact LQ path's fast path: u_t = −K x_t + feedforward(windows)[t], the
+        feed-forward of every step's own preview window in one product (:mod:`orrc.controllers.base`);
+        None off that path."""
+        if self.fast_input is None:
+            return None
+        return self.law.K, self.law.feedforward
 
     def _fast_lq_input(self, x, w_preview):
         """u_t of the exact LQ path for a time-invariant cost: what :meth:`control` returns (the

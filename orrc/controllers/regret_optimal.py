@@ -21,7 +21,7 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_int
+from .._validate import OrrcValueError, as_int, check_problem
 from ..costs import QuadraticCost
 from ..solvers.condensed import condensed
 from ..solvers.nlp import SolverWarning
@@ -75,11 +75,8 @@ class RegretOptimal(Controller):
     def __init__(self, system: LinearSystem, cost: QuadraticCost, T: int):
         import cvxpy as cp
 
-        if not isinstance(system, LinearSystem):
-            raise OrrcValueError(f"RegretOptimal needs a LinearSystem (x⁺ = Ax + Bu + w); got {type(system).__name__}")
-        if not isinstance(cost, QuadraticCost):
-            raise OrrcValueError(f"RegretOptimal needs a QuadraticCost; got {type(cost).__name__}")
-        cost.check_dims(system.n, system.m)
+        check_problem(system, cost, linear=True, quadratic=True, who="RegretOptimal",
+                      why_linear=" (x⁺ = Ax + Bu + w)")
         self.T = as_int("T", T, minimum=2)
         n, m = system.n, system.m
         _check_sdp_size(self.T, n, m)

@@ -44,7 +44,7 @@ import time
 import casadi as ca
 import numpy as np
 
-from ..disturbances import Ball, Box
+from ..disturbances import Box
 from .minmax import MinMaxPlan
 
 __all__ = ["ScenarioExchange"]

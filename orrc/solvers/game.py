@@ -24,7 +24,13 @@ condition of the saddle point at every stage.
   diag(R, −γI));
 * :func:`optimal_game_level` -- the smallest γ at which :func:`stationary_game` has a solution
   (bisection): the squared H∞ norm of the optimal state-feedback closed loop from w to
-  [Q^½x; R^½u].
+  [Q^½x; R^½u], with an error bound.
+
+Decisions follow the problem's conditioning, not fixed thresholds: a computed Riccati solution
+counts only when an a-posteriori bound (``orrc.solvers._game_bounds``: the residual, ‖L⁻¹‖ of the
+closed loop's Stein operator, ‖(R̃ + GᵀPG)⁻¹‖) proves that an exact stabilising solution with
+γI − EᵀPE ≻ 0 lies nearby. So the level found by the bisection is feasible on every BLAS kernel,
+and two kernels' levels differ by less than the error bound returned with it.
 
 Solvers know nothing of time: matrices in, matrices out.
 """
@@ -35,7 +41,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd
+from .._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd, eigvalsh_tol
+from . import _game_bounds as bounds
+from ._game_bounds import EPS
 
 __all__ = ["GameSolution", "finite_horizon_game", "stationary_game", "optimal_game_level", "check_stabilisable"]
 
@@ -116,7 +124,9 @@ def _stage(A, B, E, Q, R, gamma, P):
     m, q = B.shape[1], E.shape[1]
     EtPE = E.T @ P @ E
     lam = np.linalg.eigvalsh(0.5 * (EtPE + EtPE.T))
-    if gamma - lam[-1] <= 1e-12 * max(1.0, abs(gamma)):
+    # the margin γ − λ_max(EᵀPE) must exceed its rounding error: forming EᵀPE (inner dimension n)
+    # and its eigenvalues (q·eps·‖EᵀPE‖), at most (n + q)·eps·‖E‖²‖P‖ (Frobenius norms bound the 2-norms)
+    if gamma - lam[-1] <= (E.shape[0] + q) * EPS * float(np.sum(E * E)) * float(np.linalg.norm(P)):
         return None
     G = np.hstack([B, E])
     S = G.T @ P @ G
@@ -213,41 +223,14 @@ def finite_game_level(A, B, Q, R, M, Pf=None, E=None, tol: float = 1e-9) -> floa
     return _bisect(feasible, lo, hi, tol)
 
 
-def _sda(A, G, H, maxiter: int = 80):
-    """The stabilising solution of X = AᵀX(I + GX)⁻¹A + H by the structured doubling algorithm
-    (Chu, Fan, Lin and Wang 2004; quadratic convergence, numpy only), or None when it does not
-    converge. G = [B E] R̃⁻¹ [B E]ᵀ is indefinite for the game; the checks of :func:`_stationary`
-    decide whether the result is the game's solution."""
-    n = A.shape[0]
-    I = np.eye(n)
-    Ak, Gk, Hk = A.copy(), G.copy(), H.copy()
-    with np.errstate(all="ignore"):
-        for _ in range(maxiter):
-            try:
-                W = I + Gk @ Hk
-                V1 = np.linalg.solve(W, Ak)
-                V2 = np.linalg.solve(W, Gk)
-            except np.linalg.LinAlgError:
-                return None
-            H_new = Hk + Ak.T @ Hk @ V1
-            Gk = Gk + Ak @ V2 @ Ak.T
-            Ak = Ak @ V1
-            if not np.all(np.isfinite(H_new)):
-                return None
-            done = np.abs(H_new - Hk).max() <= 1e-14 * max(1.0, np.abs(H_new).max())
-            Hk = 0.5 * (H_new + H_new.T)
-            if done:
-                return Hk
-    return None
-
-
-def _stationary(A, B, E, Q, R, gamma, method="scipy"):
-    """(P, K, Kw) of the stabilising solution at γ, or a string saying why there is none.
+def _stationary(A, B, E, Q, R, gamma, method="scipy") -> bounds.Certificate:
+    """The stabilising solution at γ, computed and certified (:func:`orrc.solvers._game_bounds.certify`):
+    ``verdict`` "feasible" (then ``P``, ``K``, ``Kw``), "infeasible" or "undecided", with a reason.
 
     ``method="scipy"``: ``scipy.linalg.solve_discrete_are`` (used by :func:`stationary_game`);
     ``"sda"``: the structured doubling algorithm (used for the many solves of the bisection in
     :func:`optimal_game_level`: numpy only, much faster on small problems). Both results pass
-    the same checks."""
+    the same certificate."""
     n, m = B.shape
     q = E.shape[1]
     G = np.hstack([B, E])
@@ -255,36 +238,24 @@ def _stationary(A, B, E, Q, R, gamma, method="scipy"):
     Rt[:m, :m] = R
     Rt[m:, m:] = -gamma * np.eye(q)
     if method == "sda":
-        P = _sda(A, G @ np.linalg.solve(Rt, G.T), Q)
+        P, converged = bounds.sda(A, G @ np.linalg.solve(Rt, G.T), Q)
         if P is None:
-            return "the doubling iteration for the game Riccati equation did not converge"
+            return bounds.Certificate("undecided", "the doubling iteration for the game Riccati equation broke down")
+        if not converged:
+            cert = bounds.certify(A, B, E, Q, R, gamma, P)
+            if cert.verdict == "undecided":
+                cert.reason = f"the doubling iteration did not converge: {cert.reason}"
+            return cert
     else:
         from scipy import linalg
 
         try:
             P = linalg.solve_discrete_are(A, G, Q, Rt)
         except (np.linalg.LinAlgError, ValueError) as exc:
-            return f"the game Riccati equation has no stabilising solution ({exc})"
+            return bounds.Certificate("undecided", f"the game Riccati equation has no stabilising solution ({exc})")
     if not np.all(np.isfinite(P)):
-        return "the game Riccati equation has no finite solution"
-    P = 0.5 * (P + P.T)
-    scale = max(1.0, float(np.abs(P).max()))
-    if np.linalg.eigvalsh(P)[0] < -1e-9 * scale:
-        return "the Riccati solution is not positive semidefinite"
-    EtPE = E.T @ P @ E
-    if gamma - np.linalg.eigvalsh(0.5 * (EtPE + EtPE.T))[-1] <= 1e-10 * max(1.0, gamma):
-        return "γI − EᵀPE is not positive definite"
-    S = Rt + G.T @ P @ G
-    F = np.linalg.solve(S, G.T @ P @ A)
-    K, Kw = F[:m], -F[m:]
-    rho_game = float(np.max(np.abs(np.linalg.eigvals(A - B @ K + E @ Kw))))
-    rho = float(np.max(np.abs(np.linalg.eigvals(A - B @ K))))
-    if rho_game >= 1.0 - 1e-10 or rho >= 1.0 - 1e-10:
-        return f"the closed loop is not stable (spectral radius {max(rho, rho_game):.6g})"
-    residual = Q + A.T @ P @ A - (A.T @ P @ G) @ F - P
-    if np.abs(residual).max() > 1e-6 * scale:
-        return f"the Riccati solution is inaccurate (residual {np.abs(residual).max():.3g})"
-    return P, K, Kw
+        return bounds.Certificate("undecided", "the game Riccati equation has no finite solution")
+    return bounds.certify(A, B, E, Q, R, gamma, P)
 
 
 def stationary_game(A, B, Q, R, gamma, E=None) -> GameSolution:
@@ -292,47 +263,77 @@ def stationary_game(A, B, Q, R, gamma, E=None) -> GameSolution:
 
         P = Q + AᵀPA − AᵀPG (R̃ + GᵀPG)⁻¹ GᵀPA,   G = [B E], R̃ = diag(R, −γI)
 
-    (``scipy.linalg.solve_discrete_are`` with the indefinite weight R̃; when its result fails the
-    checks, as it can just above the optimal level, the structured doubling algorithm), checked: P ⪰ 0,
-    γI − EᵀPE ≻ 0, and both A − BK (the H∞ controller against w = 0) and A − BK + E Kw (against
-    the worst case) stable. Then u = −Kx guarantees Σ(xᵀQx + uᵀRu) < γ Σ‖w‖² + x_0ᵀPx_0 for every
-    w (Başar and Bernhard 1995, Theorem 3.7). Raises :class:`~orrc.OrrcValueError` below the
-    optimal level (naming it) and for an unstabilisable (A, B).
+    (``scipy.linalg.solve_discrete_are`` with the indefinite weight R̃; when its result is not
+    certified, as happens just above the optimal level, the structured doubling algorithm), certified
+    (:func:`orrc.solvers._game_bounds.certify`: from the residual and the conditioning, an exact
+    stabilising solution lies within ``info["error"]`` of P, and it has P ⪰ 0, γI − EᵀPE ≻ 0, and
+    both A − BK (the H∞ controller against w = 0) and A − BK + E Kw (against the worst case)
+    stable). Then u = −Kx guarantees Σ(xᵀQx + uᵀRu) < γ Σ‖w‖² + x_0ᵀPx_0 for every w (Başar and
+    Bernhard 1995, Theorem 3.7). Raises :class:`~orrc.OrrcValueError` below the optimal level
+    (naming it) and for an unstabilisable (A, B).
     """
     A, B, Q, R, E = _problem(A, B, Q, R, E)
     gamma = _gamma(gamma)
     check_stabilisable(A, B)
-    out = _stationary(A, B, E, Q, R, gamma)
-    if isinstance(out, str):  # close to the optimal level scipy's Schur method loses accuracy first
+    cert = _stationary(A, B, E, Q, R, gamma)
+    if cert.verdict != "feasible":  # close to the optimal level scipy's Schur method loses accuracy first
         alt = _stationary(A, B, E, Q, R, gamma, method="sda")
-        out = out if isinstance(alt, str) else alt
-    if isinstance(out, str):
-        level = optimal_game_level(A, B, Q, R, E=E)
+        if alt.verdict == "feasible" or (alt.verdict == "infeasible" and cert.verdict == "undecided"):
+            cert = alt
+    if cert.verdict != "feasible":
+        level, error = optimal_game_level(A, B, Q, R, E=E, with_error=True)
+        if gamma <= level:
+            raise OrrcValueError(
+                f"gamma = {gamma:.9g} is not above the optimal level {level:.9g} (within {error:.2g}) of the "
+                f"stationary game ({cert.reason}); no stabilising controller attains a level below it: "
+                f"use gamma > {level:.9g}")
         raise OrrcValueError(
-            f"gamma = {gamma:.6g} is not above the optimal level {level:.6g} of the stationary game ({out}); "
-            f"no stabilising controller attains a level below it: use gamma > {level:.6g}")
-    P, K, Kw = out
-    return GameSolution(gamma, [P], [K], [Kw], stationary=True)
+            f"gamma = {gamma:.9g} is too close to the optimal level {level:.9g} of the stationary game for the "
+            f"Riccati solution to be certified ({cert.reason}): use a gamma further above it, e.g. "
+            f"{level * (1 + 1e-5):.9g}")
+    return GameSolution(gamma, [cert.P], [cert.K], [cert.Kw], stationary=True,
+                        info={"error": cert.error, "residual": cert.residual, "margin": cert.margin})
 
 
-def optimal_game_level(A, B, Q, R, tol: float = 1e-9, E=None) -> float:
-    """The smallest γ for which :func:`stationary_game` has a solution, by bisection to relative ``tol``
-    (the returned level is feasible, within tol of the infimum).
+def optimal_game_level(A, B, Q, R, tol: float = 1e-9, E=None, with_error: bool = False):
+    """The smallest γ for which :func:`stationary_game` has a solution, by bisection to relative ``tol``.
 
     It equals the squared H∞ norm of the optimal state-feedback closed loop from w to
     [Q^½x; R^½u] (full-information H∞ control: a static state feedback is optimal among all
     causal controllers). Each step of the bisection solves the game ARE by structured doubling
-    (numpy; the same checks as :func:`stationary_game`). The lower end of the bisection is λ_max(EᵀP_LQR E) (P_game ⪰ P_LQR and
-    γ must exceed λ_max(EᵀP_game E)); the upper end is found by doubling.
+    (numpy) and decides with the certificate of :func:`stationary_game`, so the returned level γ̂
+    is certified feasible: γ* <= γ̂, whatever BLAS kernel ran.
+
+    The error bound (``with_error=True`` returns ``(level, error)``): γ̂ − error <= γ* <= γ̂, the lower
+    end being the larger of the non-causal level max_ω λ(ω) (a lower bound, equal to γ* when the
+    optimal level is set by the closed loop reaching the unit circle) less its rounding error, and
+    the highest level of the bisection whose infeasibility was certified (when it is set by
+    γI − EᵀPE becoming singular). It is about tol·γ̂ plus the band above γ* in which double
+    precision cannot certify the Riccati solution (the closed loop's distance to the unit circle,
+    or γI − EᵀPE, too small for the residual): ~1e-10 relative on the suite's problems.
+
+    The bisection starts from the non-causal level and λ_max(EᵀP_LQR E) (P_game ⪰ P_LQR and γ must
+    exceed λ_max(EᵀP_game E)); the upper end is found by doubling.
     """
     A, B, Q, R, E = _problem(A, B, Q, R, E)
     tol = as_float("tol", tol, minimum=0.0, strict_min=True)
+    if not isinstance(with_error, (bool, np.bool_)):
+        raise OrrcValueError(f"with_error must be True or False; got {with_error!r}")
     check_stabilisable(A, B)
-    P_lqr = _sda(A, B @ np.linalg.solve(R, B.T), Q)
-    lo = 0.0 if P_lqr is None else max(0.0, float(np.linalg.eigvalsh(E.T @ P_lqr @ E)[-1]))
+    nc, nc_error = bounds.noncausal_level(A, B, E, Q, R)
+    lower = max(0.0, nc - nc_error)
+    P_lqr, _ = bounds.sda(A, B @ np.linalg.solve(R, B.T), Q)
+    lo = lower if P_lqr is None else max(lower, float(np.linalg.eigvalsh(E.T @ P_lqr @ E)[-1]) - eigvalsh_tol(P_lqr))
+    refuted = []
 
     def feasible(g):
-        return not isinstance(_stationary(A, B, E, Q, R, g, method="sda"), str)
+        cert = _stationary(A, B, E, Q, R, g, method="sda")
+        if cert.verdict == "infeasible":
+            refuted.append(g)
+        return cert.verdict == "feasible"
 
     hi = _upper(feasible, 2.0 * lo if lo > 0 else 1.0)
-    return _bisect(feasible, lo, hi, tol)
+    level = _bisect(feasible, lo, hi, tol)
+    if not with_error:
+        return level
+    return level, level - max([lower, *refuted])

@@ -173,6 +173,22 @@ class LQPreviewLaw:
         whose values come from :meth:`values` after the run)."""
         return self._G @ np.concatenate((x, W.reshape(-1)))
 
+    def feedforward(self, W_windows, chunk: int = 4096) -> np.ndarray:
+        """−L vec W_t for many windows at once: the part of κ_M that does not depend on x_t.
+
+        W_windows : (k, k_w, n) with k_w <= M rows each (the rows after k_w count as zero, as in a
+        plan that has not seen them). One matrix product per ``chunk`` windows; row t depends on
+        window t only. Returns (k, m), so that κ_M(x_t, W_t) = −K x_t + (this)[t].
+        """
+        k, kw, n = W_windows.shape
+        out = np.empty((k, self.m))
+        Lt = -self.L[:, :kw * n].T
+        with _one_blas_thread():
+            for s in range(0, k, chunk):
+                rows = min(chunk, k - s)
+                out[s:s + rows] = W_windows[s:s + rows].reshape(rows, kw * n) @ Lt
+        return out
+
     def values(self, X, W_windows, chunk: int = 4096) -> np.ndarray:
         """V_M(x_t, W_t) = z_tᵀ H z_t, z_t = [x_t; vec W_t], for many (x_t, W_t) at once.
 

@@ -12,6 +12,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError
+from .figures import legend_below
 from .plots import _figure, _nonempty_dict, _trajs, controller_color
 
 __all__ = ["metric_bars", "preview_decay", "running_cost"]
@@ -66,7 +67,7 @@ def preview_decay(pv, title: str | None = None) -> Figure:
     ax.semilogy(pv.ks, c0 * pv.rho_sq ** (pv.ks - k0), "--", color="black", label=f"ρ(A − BK)^(2k), ρ² = {pv.rho_sq:.3g}")
     ax.set_xlabel("previewed disturbances k")
     ax.set_ylabel("excess dynamic regret")
-    ax.legend(fontsize=9, loc="upper right")
+    legend_below(ax, fontsize=9)   # clear of the data
     if title:
         ax.set_title(title, fontsize=10)
     return fig

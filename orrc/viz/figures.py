@@ -26,6 +26,7 @@ from __future__ import annotations
 import base64
 import html
 import io
+import math
 import re
 import uuid
 
@@ -49,8 +50,8 @@ def _figure_arg(name: str, fig):
     return fig
 
 
-__all__ = ["DPI", "MIN_FONT_PT", "WIDE_IN", "NARROW_IN", "figure_to_png", "legible", "narrowed", "render",
-           "figure_html", "picture_html", "install"]
+__all__ = ["DPI", "MIN_FONT_PT", "WIDE_IN", "NARROW_IN", "figure_to_png", "legible", "legend_below", "narrowed",
+           "render", "figure_html", "picture_html", "install"]
 
 
 def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True) -> bytes:
@@ -77,6 +78,21 @@ def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True) -
     return out.getvalue()
 
 
+def legend_below(ax, fontsize: float = MIN_FONT_PT + 1, ncol: int = 1, **kw):
+    """A frameless legend centred under the axes, below its tick labels and x label: the drop is
+    in points (from their font sizes), not a fraction of the axes, so the legend clears the
+    label at every figure height (the wide and the narrow rendering). Extra keywords go to
+    ``ax.legend`` (e.g. ``handles``)."""
+    from matplotlib.transforms import ScaledTranslation
+
+    ticks = [t.get_fontsize() for t in ax.get_xticklabels()] or [ax.xaxis.label.get_fontsize()]
+    label = ax.xaxis.label.get_fontsize() if ax.get_xlabel() else 0.0
+    drop = 1.3 * (max(ticks) + label) + 10.0          # points: two text lines, the ticks and the pads
+    to_anchor = ax.transAxes + ScaledTranslation(0, -drop / 72, ax.figure.dpi_scale_trans)
+    return ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=to_anchor, ncol=ncol,
+                     frameon=False, fontsize=fontsize, **kw)
+
+
 # ---------------------------------------------------------------- legibility
 
 class _PlainLogFormatter(LogFormatterSciNotation):
@@ -90,14 +106,38 @@ class _PlainLogFormatter(LogFormatterSciNotation):
         return text
 
 
+#: at most this many labelled decades on a symmetric-log axis (more overlap on a phone's figure)
+SYMLOG_MAX_TICKS = 7
+
+
+def _symlog_ticks(axis, lim) -> list[float]:
+    """0 and the decades ±10^k outside the linear band of a symlog axis, thinned to every j-th
+    decade (counted from the largest on each side) so that at most SYMLOG_MAX_TICKS remain."""
+    lo, hi = sorted(lim)
+    linthresh = axis.get_transform().linthresh
+    sides = []
+    for sign, bound in ((1.0, hi), (-1.0, -lo)):
+        if bound > linthresh:
+            top = math.floor(math.log10(bound))
+            sides.append((sign, list(range(top, math.ceil(math.log10(linthresh)) - 1, -1))))
+    count = sum(len(ks) for _, ks in sides) + (lo <= 0 <= hi)
+    step = max(1, math.ceil(count / SYMLOG_MAX_TICKS))
+    ticks = [sign * 10.0 ** k for sign, ks in sides for k in ks[::step]]
+    return sorted(ticks + ([0.0] if lo <= 0 <= hi else []))
+
+
 def _tidy_ticks(ax) -> None:
     """Linear axes: ticks in steps of 1, 2 or 5 (never 2.5: no 42.5, 47.5). Log axes that span
-    less than two decades: plain labels (3, 30) instead of 3×10⁰."""
-    from matplotlib.ticker import AutoLocator, MaxNLocator
+    less than two decades: plain labels (3, 30) instead of 3×10⁰. Symmetric-log axes: at most
+    SYMLOG_MAX_TICKS labelled decades (:func:`_symlog_ticks`)."""
+    from matplotlib.ticker import AutoLocator, FixedLocator, MaxNLocator, SymmetricalLogLocator
 
     for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
         scale = axis.get_scale()
-        if scale == "linear" and type(axis.get_major_locator()) is AutoLocator:
+        if scale == "symlog" and type(axis.get_major_locator()) is SymmetricalLogLocator:
+            axis.set_major_locator(FixedLocator(_symlog_ticks(axis, lim)))
+            axis.set_view_interval(*lim, ignore=True)
+        elif scale == "linear" and type(axis.get_major_locator()) is AutoLocator:
             axis.set_major_locator(MaxNLocator(nbins="auto", steps=[1, 2, 5, 10]))
         elif scale == "log":
             lo, hi = sorted(abs(v) for v in lim)
@@ -280,7 +320,7 @@ def render(fig, dpi: int = DPI, close: bool = True) -> tuple[bytes, bytes | None
     one size only). :func:`legible` first; a figure wider than :data:`WIDE_IN` is drawn at
     that width. The narrow PNG (:class:`narrowed`) is None for a figure already
     :data:`NARROW_IN` wide or less. Afterwards ``fig`` has its layout and size back (its
-    fonts stay raised); it is closed when ``close``."""
+    fonts stay raised, titles longer than the figure stay wrapped); it is closed when ``close``."""
     from .._validate import as_int
 
     fig = _figure_arg("fig", fig)
@@ -290,6 +330,9 @@ def render(fig, dpi: int = DPI, close: bool = True) -> tuple[bytes, bytes | None
     if engine is None:
         fig.set_layout_engine("constrained")
     fig.set_size_inches(min(size[0], WIDE_IN), size[1])
+    for ax in fig.axes:   # a title longer than the figure is wide would be cut at its edge: wrap it
+        if ax.get_title():
+            ax.title.set_text(_wrap(ax.get_title(), _chars(fig.get_size_inches()[0] - 0.6, ax.title.get_fontsize())))
     wide = figure_to_png(fig, dpi, close=False, tight=False)
     small = None
     if size[0] > NARROW_IN + 0.05:

@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from ..metrics import attenuation_ratio, attenuation_regret
+from .figures import legend_below
 
 __all__ = [
     "controller_color", "information_pattern", "cost_overview", "running_regret", "cost_vs_energy",
@@ -184,7 +185,7 @@ def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, o
     ax_x.set_ylabel(state_label or f"state $x_t[{state}]$")
     ax_c.set_xlabel("time step $t$")
     ax_c.set_ylabel(r"cumulative cost $\sum_{s\leq t} c_s$")
-    ax_c.legend(fontsize=FONT, loc="best")
+    legend_below(ax_c, fontsize=FONT)   # long controller names: clear of the curves
     return fig
 
 

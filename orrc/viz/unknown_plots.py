@@ -27,6 +27,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float
+from .figures import legend_below
 
 __all__ = ["estimation_errors", "prediction_errors", "phase_frame", "lipschitz_quotients", "lemma4_terms",
            "loss_vs_error", "theorem2_parts", "excess_vs_T", "tradeoff_curves", "best_N"]
@@ -60,8 +61,8 @@ def _style(ax, xlabel: str | None = None, ylabel: str | None = None, title: str 
         ax.set_title(title, fontsize=FONT)
     if legend and ax.get_legend_handles_labels()[0]:
         if loc == "below":
-            ax.legend(fontsize=FONT - 1, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=1 if
-                      max(len(t) for t in ax.get_legend_handles_labels()[1]) > 28 else 2, frameon=False)
+            legend_below(ax, fontsize=FONT - 1,
+                         ncol=1 if max(len(t) for t in ax.get_legend_handles_labels()[1]) > 28 else 2)
         else:
             ax.legend(fontsize=FONT - 1, loc=loc, frameon=False)
     ax.grid(True, which="major", alpha=0.3)
@@ -163,7 +164,9 @@ def phase_frame(traj, reference, state: int = 0, title: str | None = None, fast:
     excess = np.cumsum(traj.costs - reference.costs)
     ax2.plot(np.arange(traj.T), excess, color="tab:red", lw=1.5,
              label="excess cost" + (f" (shaded: N = {N})" if N > 0 else ""))
-    _style(ax2, "t", r"$\sum_{s \leq t}\,(c_s - c_s^{\rm known})$", loc="lower right")
+    lo, hi = ax2.get_ylim()
+    ax2.set_ylim(lo, hi + 0.45 * (hi - lo))          # room for the legend above the curve
+    _style(ax2, "t", r"$\sum_{s \leq t}\,(c_s - c_s^{\rm known})$", loc="upper left")
     return fig
 
 
@@ -209,13 +212,13 @@ def loss_vs_error(errors, losses: dict, title: str | None = None) -> Figure:
     (e.g. one per cost), each with its fitted slope (1: first order, 2: second order)."""
     e = as_array("errors", errors, ndim=1)
     losses = _dict("losses", losses)
-    fig, (ax,) = _fig()
+    fig, (ax,) = _fig(1, 4.2)   # the legend below the axes
     for i, (label, y) in enumerate(losses.items()):
         y = _vector(f"losses[{label!r}]", y, e.size)
         ok = y > 0
         slope = np.polyfit(np.log(e[ok]), np.log(y[ok]), 1)[0] if ok.sum() >= 2 else float("nan")
         ax.loglog(e[ok], y[ok], "o-", ms=4, color=_COLORS[i % 8], label=f"{label}: slope {slope:.2f}")
-    _style(ax, r"$\Vert\hat\theta - \theta\Vert$", "excess cost per step", title, loc="upper left")
+    _style(ax, r"$\Vert\hat\theta - \theta\Vert$", "excess cost per step", title, loc="below")
     return fig
 
 
@@ -259,7 +262,7 @@ def tradeoff_curves(tradeoff, Ts, title: str | None = None) -> Figure:
     if not isinstance(tradeoff, Tradeoff):
         raise OrrcValueError(f"tradeoff must be an orrc.tradeoff.Tradeoff; got {type(tradeoff).__name__}")
     Ts = as_array("Ts", Ts, ndim=1)
-    fig, (ax,) = _fig(1, 3.8)
+    fig, (ax,) = _fig(1, 4.8)   # the legend below the axes
     grid = np.geomspace(tradeoff.Ns[0], tradeoff.Ns[-1], 300)
     best = tradeoff.best_N(Ts)
     for i, (T, b) in enumerate(zip(Ts, best)):
@@ -267,7 +270,7 @@ def tradeoff_curves(tradeoff, Ts, title: str | None = None) -> Figure:
         ax.loglog(tradeoff.Ns, tradeoff.excess(T), "o", ms=4, color=c)
         ax.loglog(grid, tradeoff.fitted_excess(grid, T), color=c, lw=1.2, label=f"T = {T:,.0f}")
         ax.loglog([b], tradeoff.fitted_excess(np.array([b]), T), "*", ms=12, color=c, mec="black")
-    _style(ax, "N (exciting steps)", r"$\Delta(N, T)$", title, loc="upper left")
+    _style(ax, "N (exciting steps)", r"$\Delta(N, T)$", title, loc="below")
     return fig
 
 
@@ -282,9 +285,9 @@ def best_N(tradeoff, Ts, title: str | None = None) -> Figure:
     b = tradeoff.best_N(Ts)
     raw = tradeoff.best_N(Ts, fitted=False)
     slope = tradeoff.slope(Ts)
-    fig, (ax,) = _fig()
+    fig, (ax,) = _fig(1, 4.4)   # the legend below the axes
     ax.loglog(Ts, b, "o-", color="tab:blue", ms=5, label=f"best N (fitted curve), slope {slope:.2f}")
     ax.loglog(Ts, raw, "s", color="tab:orange", ms=5, mfc="none", label="best N on the grid (raw)")
     ax.loglog(Ts, b[0] * (Ts / Ts[0]) ** (2 / 3), color="0.3", ls="--", label="slope 2/3")
-    _style(ax, "T", "best N", title, loc="upper left")
+    _style(ax, "T", "best N", title, loc="below")
     return fig
