@@ -41,20 +41,16 @@ error is not a terminal outside a kernel (tests, scripts piped to a file).
 """
 from __future__ import annotations
 
-import hashlib
 import itertools
 import math
 import numbers
 import os
-import pickle
 import sys
 import time
-import traceback
-import warnings
 
 import numpy as np
 
-from ._validate import OrrcValueError, _describe, as_float, as_int, check_options, check_size
+from ._validate import OrrcValueError, _describe, as_float, as_int, check_size
 
 __all__ = ["sweep", "Table", "SweepError", "BACKENDS"]
 
@@ -201,60 +197,6 @@ def _seed_plan(seeds, seed, common_seeds: bool, n_points: int):
                          f"integer seeds; got {_describe(seeds)}")
 
 
-# -- running one chunk of runs (in this process or in a worker) --------------------------------------
-_LOADED: dict = {}     # payload digest -> fn, in a worker process
-
-
-def _call(fn, point: dict, s):
-    return fn(**point) if s is None else fn(**point, seed=s)
-
-
-def _apply_context(context):
-    """In a worker: this sweep's ORRC_* environment and orrc.config limits."""
-    from . import config
-
-    env, limits = context
-    for k in [k for k in os.environ if k.startswith("ORRC_") and k not in env]:
-        del os.environ[k]
-    os.environ.update(env)
-    config.set_limits(**limits)
-
-
-def _run_chunk(payload: bytes, context, chunk):
-    """Run ``chunk`` (a list of (row, point, seed)) in a worker: [(row, ok, value or error, warnings)]."""
-    from .solvers.lq import _one_blas_thread
-
-    key = hashlib.sha256(payload).digest()
-    if key not in _LOADED:
-        import cloudpickle
-
-        _LOADED.clear()
-        _LOADED[key] = cloudpickle.loads(payload)
-    fn = _LOADED[key]
-    _apply_context(context)
-    out = []
-    with _one_blas_thread():
-        for row, point, s in chunk:
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                try:
-                    result = (row, True, _call(fn, point, s))
-                except Exception as exc:  # reported with its grid point by the caller
-                    result = (row, False, _portable(exc))
-            out.append(result + ([(w.category, str(w.message), w.filename, w.lineno) for w in caught],))
-    return out
-
-
-def _portable(exc: BaseException):
-    """(exception, traceback text), the exception replaced by a RuntimeError if it does not pickle."""
-    tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
-    try:
-        pickle.loads(pickle.dumps(exc))
-    except Exception:
-        exc = RuntimeError(f"{type(exc).__name__}: {exc}")
-    return exc, tb
-
-
 # -- the sweep --------------------------------------------------------------------------------------
 def _book_build() -> bool:
     return os.environ.get("ORRC_BOOK_BUILD", "").strip().lower() in ("1", "true", "yes")
@@ -268,32 +210,6 @@ def _interactive() -> bool:
     if shell is not None and type(shell).__name__ == "ZMQInteractiveShell":
         return True
     return bool(getattr(sys.stderr, "isatty", lambda: False)())
-
-
-def _cores() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # pragma: no cover - not Linux
-        return os.cpu_count() or 1
-
-
-#: modules that orrc imports on first use and that take seconds to import on a loaded machine (python-control
-#: 1 to 4 s, scipy.signal 1 to 2 s): the forkserver imports those this process has already imported
-_HEAVY = ("scipy.linalg", "scipy.optimize", "scipy.signal", "scipy.sparse.linalg", "control", "threadpoolctl", "cvxpy")
-
-
-def _forkserver():
-    """The multiprocessing context of the process pools: a forkserver that imported orrc and the heavy modules
-    already imported here, so that every worker forked from it starts with them (spawn where there is no
-    forkserver). The server starts with the first pool of the session and serves every later one."""
-    import multiprocessing as mp
-
-    try:
-        ctx = mp.get_context("forkserver")
-    except ValueError:  # pragma: no cover - Windows
-        return mp.get_context("spawn")
-    ctx.set_forkserver_preload(["orrc"] + [m for m in _HEAVY if m in sys.modules])   # used when the server starts
-    return ctx
 
 
 def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, backend: str | None = None,
@@ -327,6 +243,8 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
 
     A grid of one run, and ``workers=1``, run in this process (the same results, without a pool).
     """
+    from . import _sweep_run as run
+
     if not callable(fn):
         raise OrrcValueError(f"fn must be callable fn(**point, seed=...); got {_describe(fn)}")
     names, n_points = _grid_size(grid)
@@ -347,7 +265,7 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
     if progress is not None and not isinstance(progress, bool):
         raise OrrcValueError(f"progress must be None, True or False; got {_describe(progress)}")
     ops_per_call = as_float("ops_per_call", ops_per_call, minimum=0.0)
-    workers = _cores() if workers is None else as_int("workers", workers, minimum=1)
+    workers = run._cores() if workers is None else as_int("workers", workers, minimum=1)
     runs = n_points * k
     shape = " × ".join(f"{len(v)} {n}" for n, v in grid.items()) if isinstance(grid, dict) else f"{n_points} points"
     check_size(f"orrc.sweep over a grid of {n_points} points ({shape or 'no parameters'}) × {k} seeds = {runs} "
@@ -356,8 +274,9 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
     if client is not None:
         backend = "dask"
     if backend == "dask":
-        client = _dask_client(client)
+        client = run._dask_client(client)
         workers = max(1, sum(client.nthreads().values()))
+    given_chunksize = chunksize is not None
     chunksize = max(1, math.ceil(runs / (4 * workers))) if chunksize is None else as_int("chunksize", chunksize,
                                                                                         minimum=1)
 
@@ -372,33 +291,19 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
     try:
         if backend == "auto" and runs > 1:
             start = time.perf_counter()
-            _serial(fn, tasks[:1], rows, on_error, bar, runs)
-            backend, workers = _auto(time.perf_counter() - start, runs - 1, workers)
-            if backend == "processes":
+            run._serial(fn, tasks[:1], rows, on_error, bar, runs)
+            backend, workers = run._auto(time.perf_counter() - start, runs - 1, workers)
+            if backend == "processes" and not given_chunksize:
                 chunksize = max(1, math.ceil((runs - 1) / (4 * workers)))
             tasks = tasks[1:]
         if backend in ("serial", "auto") or (backend == "processes" and (len(tasks) == 1 or workers == 1)):
-            _serial(fn, tasks, rows, on_error, bar, runs)
+            run._serial(fn, tasks, rows, on_error, bar, runs)
         else:
-            _parallel(fn, tasks, rows, on_error, bar, backend, client, min(workers, len(tasks)), chunksize, runs)
+            run._parallel(fn, tasks, rows, on_error, bar, backend, client, min(workers, len(tasks)), chunksize, runs)
     finally:
         if bar is not None:
             bar.close()
     return Table(rows, names)
-
-
-def _auto(first: float, left: int, workers: int) -> tuple[str, int]:
-    """("processes", w) when w idle cores save more than AUTO_MIN_SAVING seconds on ``left`` runs of ``first``
-    seconds each; else ("serial", 1). Idle cores: the cores less the load average, plus this process's own
-    (it waits while the workers run)."""
-    try:
-        load = os.getloadavg()[0]
-    except OSError:  # pragma: no cover - no load average
-        return "serial", 1
-    w = min(workers, left, int(_cores() - load + 1))
-    if w >= 2 and first * left * (1 - 1 / w) > AUTO_MIN_SAVING:
-        return "processes", w
-    return "serial", 1
 
 
 def _check_signature(fn, point: dict, with_seed: bool):
@@ -415,23 +320,6 @@ def _check_signature(fn, point: dict, with_seed: bool):
         raise OrrcValueError(f"fn{sig} cannot be called with the grid's keywords ({got or 'none'}): {exc}") from None
 
 
-def _dask_client(client):
-    try:
-        from distributed import Client, get_client
-    except ImportError as exc:  # pragma: no cover - the suite installs the extra
-        raise OrrcValueError("backend='dask' needs dask.distributed: install the extra, pip install 'orrc[dask]'") \
-            from exc
-    if client is None:
-        try:
-            return get_client()
-        except ValueError:
-            raise OrrcValueError("backend='dask' needs a dask.distributed client: pass client=Client(...) "
-                                 "(none is running)") from None
-    if not isinstance(client, Client):
-        raise OrrcValueError(f"client must be a dask.distributed.Client; got {_describe(client)}")
-    return client
-
-
 def _bar(total: int, progress):
     if not (progress if progress is not None else _interactive()):
         return None
@@ -439,111 +327,3 @@ def _bar(total: int, progress):
 
     return tqdm(total=total, desc="orrc.sweep", unit="run", delay=0 if progress else 1.0)
 
-
-def _row(task, value) -> dict:
-    _, point, s, r = task
-    row = dict(point)
-    if s is not None:
-        row.update(seed=s, replicate=r)
-    result = value if isinstance(value, dict) else {"value": value}
-    clash = sorted(set(result) & set(row))
-    if clash:
-        raise OrrcValueError(f"fn returned the keys {clash}, which are also columns of the grid (parameters, seed, "
-                             "replicate): rename them")
-    row.update(result)
-    return row
-
-
-def _where(task, runs: int) -> str:
-    row, point, s, _ = task
-    at = ", ".join(f"{k}={_describe(v)}" for k, v in point.items()) or "the only grid point"
-    return f"at grid point {at}" + (f", seed={s}" if s is not None else "") + f" (run {row + 1} of {runs})"
-
-
-def _failed(task, exc, tb, runs, on_error, rows):
-    if on_error == "record":
-        rows[task[0]] = {**_row(task, {}), "error": f"{type(exc).__name__}: {exc}"}
-        return
-    err = SweepError(f"fn raised {type(exc).__name__}: {exc} {_where(task, runs)}", dict(task[1]), task[2], task[0])
-    if tb:
-        err.add_note("in the worker:\n" + tb)
-    raise err from exc
-
-
-def _serial(fn, tasks, rows, on_error, bar, runs):
-    from .solvers.lq import _one_blas_thread
-
-    with _one_blas_thread():
-        for task in tasks:
-            try:
-                value = _call(fn, task[1], task[2])
-            except Exception as exc:
-                _failed(task, exc, "", runs, on_error, rows)
-            else:
-                rows[task[0]] = _row(task, value)
-            if bar is not None:
-                bar.update(1)
-
-
-def _parallel(fn, tasks, rows, on_error, bar, backend, client, workers, chunksize, runs):
-    import cloudpickle
-
-    from .config import get_limits
-
-    try:
-        payload = cloudpickle.dumps(fn)
-    except Exception as exc:
-        raise OrrcValueError(f"fn cannot be sent to the worker processes ({type(exc).__name__}: {exc}). Build what "
-                             "does not pickle (CasADi controllers, solvers, ParametricSystem models) inside fn, or "
-                             "use backend='serial'") from exc
-    context = ({k: v for k, v in os.environ.items() if k.startswith("ORRC_")}, vars(get_limits()))
-    chunks = [[t[:3] for t in tasks[i:i + chunksize]] for i in range(0, len(tasks), chunksize)]
-    registry: dict = {}
-    by_row = {t[0]: t for t in tasks}
-
-    def collect(chunk, outcome):
-        for (row, ok, value, caught), task in zip(outcome, (by_row[c[0]] for c in chunk)):
-            for category, message, filename, lineno in caught:
-                warnings.warn_explicit(message, category, filename, lineno, registry=registry)
-            if ok:
-                rows[row] = _row(task, value)
-            else:
-                _failed(task, value[0], value[1], runs, on_error, rows)
-        if bar is not None:
-            bar.update(len(chunk))
-
-    def result(future, chunk):
-        try:
-            return future.result()
-        except Exception as exc:   # the task itself failed: a result that does not pickle, a dead worker
-            first, last = chunk[0][0], chunk[-1][0]
-            why = ("a worker process died: it ran out of memory, crashed, or (in a script) re-ran the script's top "
-                   "level, which must call sweep under `if __name__ == '__main__':`" if "BrokenProcessPool" in
-                   type(exc).__name__ else "fn must return picklable values (numbers, arrays, dicts, orrc Trajectory "
-                   "objects), not CasADi objects")
-            raise SweepError(f"the runs {first + 1} to {last + 1} of {runs} could not be completed or sent back "
-                             f"({type(exc).__name__}: {exc}): {why}; the first of them is "
-                             f"{_where(by_row[first], runs)}", dict(by_row[first][1]), by_row[first][2], first) \
-                from exc
-
-    if backend == "dask":
-        from distributed import as_completed
-
-        futures = [client.submit(_run_chunk, payload, context, chunk, pure=False) for chunk in chunks]
-        by_key = {f.key: c for f, c in zip(futures, chunks)}
-        try:
-            for fut in as_completed(futures):
-                collect(by_key[fut.key], result(fut, by_key[fut.key]))
-        except BaseException:
-            client.cancel(futures)
-            raise
-        return
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    pool = ProcessPoolExecutor(max_workers=min(workers, len(chunks)), mp_context=_forkserver())
-    try:
-        futures = {pool.submit(_run_chunk, payload, context, chunk): chunk for chunk in chunks}
-        for fut in as_completed(futures):
-            collect(futures[fut], result(fut, futures[fut]))
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)

@@ -177,7 +177,7 @@ def test_no_progress_bar_in_tests_or_the_book_build_and_one_on_request(capfd, mo
 
 
 def test_auto_starts_processes_only_when_idle_cores_save_time(monkeypatch):
-    sweep_module = sys.modules["orrc.sweep"]
+    sweep_module = sys.modules["orrc._sweep_run"]
     monkeypatch.setattr(sweep_module, "_cores", lambda: 2)
     monkeypatch.setattr(sweep_module.os, "getloadavg", lambda: (0.2, 0.2, 0.2))     # an idle machine
     assert sweep_module._auto(1.0, 10, 8) == ("processes", 2)       # 10 runs of 1 s: saves 5 s
