@@ -2,7 +2,8 @@
 
 Runs the performance benchmarks of issues 2 and 11 (see ``benchmarks/pendulum.py``,
 ``benchmarks/closed_loop.py`` and ``benchmarks/lq_path.py``), the comparison table of issue 14 and
-the min-max benchmark of issue 13 (``benchmarks/minmax.py``), prints the machine and a Markdown table of results,
+the min-max benchmark of issue 13 (``benchmarks/minmax.py``), the explorers' re-draw times in a live
+kernel (``benchmarks/widgets.py``, issue 11), prints the machine and a Markdown table of results,
 and exits with status 1 if a target is missed or a correctness check fails
 (status 0 otherwise). ``--quick`` runs tiny sizes: it checks that the benchmarks
 work, and its timings mean nothing.
@@ -13,19 +14,20 @@ import argparse
 import sys
 import time
 
-from . import closed_loop, comparison, lq_path, minmax, pendulum
+from . import closed_loop, comparison, lq_path, minmax, pendulum, widgets
 from .common import CheckFailed, machine, markdown_table
 
-FULL = {"pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}, "minmax": {}}  # the defaults of each module's run()
+FULL = {"pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}, "minmax": {}, "widgets": {}}  # the defaults of each module's run()
 QUICK = {
     "pendulum": dict(M=5, thetas=(0.5,), reps_orrc=2, reps_peer=1),
     "closed_loop": dict(T=12, reps=1, reps_ipopt=1),
     "lq": dict(T=40, M=5, reps=2),
     "comparison": dict(T=10, M=4),
     "minmax": dict(Ms=(4, 5), reps=1, M_pendulum=5, T=4),
+    "widgets": dict(demo=True),
 }
 MODULES = {"pendulum": pendulum, "closed_loop": closed_loop, "lq": lq_path, "comparison": comparison,
-           "minmax": minmax}
+           "minmax": minmax, "widgets": widgets}
 
 
 def main(argv=None) -> int:

@@ -11,9 +11,11 @@ from .costs import Cost, CostSequence, L1Cost, QuadraticCost, StageCost
 from .disturbances import Ball, Box
 from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
 from .simulate import Trajectory, simulate
+from .sweep import SweepError, Table, sweep
 from .solvers.plan import Plan, SolverError, SolverWarning
 from .systems import LinearSystem, NonlinearSystem, System
 from .parametric import LinearParametricSystem, ParametricSystem
+from ._progress import progress
 from . import config, disturbances, examples
 from . import certify, checks, estimation, theory, tradeoff
 
@@ -26,6 +28,6 @@ __all__ = [
     "Ball", "Box", "disturbances", "examples",
     "Controller", "Observation", "Decision", "PreviewRHC", "EstimateThenControl", "LiftedRHC", "MinMaxRHC", "LQR",
     "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "Plan",
-    "simulate", "Trajectory",
-    "attenuation_regret", "attenuation_ratio", "dynamic_regret",
+    "simulate", "Trajectory", "sweep", "Table", "SweepError",
+    "attenuation_regret", "attenuation_ratio", "dynamic_regret", "progress",
 ]

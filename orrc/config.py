@@ -3,6 +3,8 @@
 * ``ORRC_QUICK=1`` in the environment shrinks long runs (:func:`quick`, :func:`size`). The test
   suite sets it when it executes the chapters, so the same chapter source runs at full size in
   the book and at reduced size under test (never a copy).
+* ``ORRC_BOOK_BUILD=1``, set by the book's build (``tools/build_book.py``), says that a chapter is
+  executed for the HTML book, not in a live notebook (:func:`book_build`).
 * Limits on the size of one computation (:class:`Limits`): before a computation whose memory or
   time grows fast (the exact LQ law at a long horizon, the vertices of a box in many
   dimensions, a worst-case attenuation over a long T, ...) ``orrc`` estimates it and refuses
@@ -30,6 +32,15 @@ def quick() -> bool:
 def size(full: int, quick_size: int) -> int:
     """``full`` normally, ``quick_size`` under ORRC_QUICK=1."""
     return quick_size if quick() else full
+
+
+def book_build() -> bool:
+    """True when the book's build executes this code: the environment variable ORRC_BOOK_BUILD is
+    1/true/yes. ``tools/build_book.py`` sets it for every build (the published book, the test build,
+    the solution-free edition); a live notebook does not have it. :func:`orrc.viz.explore` renders
+    its static frames only in a build (or outside a kernel, where there is no live widget), and
+    progress bars (:func:`orrc.progress`) stay silent in a build."""
+    return os.environ.get("ORRC_BOOK_BUILD", "").strip().lower() in ("1", "true", "yes")
 
 
 @dataclass(frozen=True)
@@ -111,4 +122,4 @@ def limits(**changes):
         _current = previous
 
 
-__all__ = ["quick", "size", "Limits", "get_limits", "set_limits", "limits"]
+__all__ = ["quick", "size", "book_build", "Limits", "get_limits", "set_limits", "limits"]

@@ -60,6 +60,7 @@ class ParametricSystem(System):
         if len(param_names) != self.n_params:
             raise OrrcValueError(f"param_names must list n_params={self.n_params} names; got {len(param_names)}")
         self.param_names = param_names
+        self._f = f
         x, u, w = ca.SX.sym("x", self.n), ca.SX.sym("u", self.m), ca.SX.sym("w", self.n)
         th = ca.SX.sym("theta", self.n_params)
         out = traced(f, (x, u, w, th), self.n, "f(x, u, w, theta)")
@@ -144,6 +145,12 @@ class ParametricSystem(System):
     def __repr__(self):
         return f"ParametricSystem(n={self.n}, m={self.m}, p={self.n_params}, name={self.name!r})"
 
+    def __reduce__(self):
+        """Pickled as its constructor's arguments (CasADi symbols do not pickle; they are traced again), so
+        that a model travels to the worker processes of :func:`orrc.sweep` (``f`` itself must pickle:
+        cloudpickle sends a function defined in a notebook by value)."""
+        return ParametricSystem, (self._f, self.n, self.m, self.n_params, self.name, self.param_names)
+
 
 class LinearParametricSystem(ParametricSystem):
     """x_{t+1} = A x_t + B u_t + w_t with θ = vec([A B]) (row by row): θ_{i(n+m)+j} = [A B]_{ij}.
@@ -183,3 +190,6 @@ class LinearParametricSystem(ParametricSystem):
 
     def __repr__(self):
         return f"LinearParametricSystem(n={self.n}, m={self.m}, p={self.n_params})"
+
+    def __reduce__(self):
+        return LinearParametricSystem, (self.n, self.m, self.name)

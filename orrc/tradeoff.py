@@ -118,7 +118,8 @@ class Tradeoff:
 
 def exploration_tradeoff(system, model, cost, M: int, Ns, seeds: int = 10, window: int = 300,
                          burn_in: int | None = None, excitation_amplitude: float = 1.0, w_radius: float = 0.5,
-                         use_w: bool = False, theta_true=None, x0=None, input_bounds=None, seed: int = 0) -> Tradeoff:
+                         use_w: bool = False, theta_true=None, x0=None, input_bounds=None, seed: int = 0,
+                         backend: str | None = None, client=None) -> Tradeoff:
     """Measure Theorem 2's trade-off for Algorithm 2 on ``system`` (see the module docstring).
 
     Parameters
@@ -136,14 +137,16 @@ def exploration_tradeoff(system, model, cost, M: int, Ns, seeds: int = 10, windo
     theta_true : the true θ, to report ‖θ̂ - θ‖ (the controller does not use it).
     x0 : initial state (default 0).
 
+    backend, client : where the seeds run, one task per seed (:func:`orrc.sweep`'s backends: "auto" by default,
+        "serial", "processes" on the local cores, or a Dask ``client``); the results are the same whatever the backend.
+
     Every closed loop is an :func:`orrc.simulate` run of :class:`~orrc.EstimateThenControl`; the known
     system's runs are :class:`~orrc.PreviewRHC` on ``system``. Cost: seeds·Σ_N (N + window) + seeds·(max N +
     window) simulated steps.
     """
-    from . import disturbances
-    from .controllers import EstimateThenControl, PreviewRHC
-    from .estimation import prbs
-    from .simulate import simulate
+    import functools
+
+    from .sweep import sweep
 
     Ns = np.asarray(Ns)
     if Ns.ndim != 1 or Ns.size < 3 or not np.issubdtype(Ns.dtype, np.integer) or np.any(Ns < 1) \
@@ -158,36 +161,50 @@ def exploration_tradeoff(system, model, cost, M: int, Ns, seeds: int = 10, windo
         raise OrrcValueError(f"burn_in must be < window = {window}; got {burn_in}")
     amp = as_float("excitation_amplitude", excitation_amplitude, minimum=0.0, strict_min=True)
     w_radius = as_float("w_radius", w_radius, minimum=0.0, strict_min=True)
-    n, m = system.n, system.m
-    x0 = np.zeros(n) if x0 is None else as_array("x0", x0, (n,))
+    x0 = np.zeros(system.n) if x0 is None else as_array("x0", x0, (system.n,))
     steps = seeds * (int(Ns.sum()) + Ns.size * window + int(Ns[-1]) + window)
     check_size(f"exploration_tradeoff with seeds={seeds}, window={window}, N up to {int(Ns[-1])}: {steps} simulated steps",
                ops=steps * _STEP_OPS, hint="use fewer seeds, a shorter window or smaller N")
-    k = Ns.size
-    shape = (seeds, k)
-    E, Ek, tr, loss, err = (np.zeros(shape) for _ in range(5))
-    c0s = []
-    known = PreviewRHC(system, cost, M, input_bounds=input_bounds)
-    L = int(Ns[-1]) + window
-    for s in range(seeds):
-        w = disturbances.uniform_box(L + M, n, -w_radius, w_radius, seed=np.random.default_rng([seed + s, 1]))
-        exc = prbs(int(Ns[-1]), m, amplitude=amp, seed=np.random.default_rng([seed + s, 2]))
-        ref = simulate(system, known, x0, w, L).costs
-        c0s.append(ref.mean())
-        for i, N in enumerate(Ns):
-            N = int(N)
-            etc = EstimateThenControl(model, cost, M, N, excitation=exc[:N], use_w=use_w, theta_true=theta_true,
-                                      input_bounds=input_bounds)
-            c = simulate(system, etc, x0, w, N + window).costs
-            E[s, i], Ek[s, i] = c[:N].sum(), ref[:N].sum()
-            tr[s, i] = (c[N:N + burn_in] - ref[N:N + burn_in]).sum()
-            loss[s, i] = (c[N + burn_in:N + window] - ref[N + burn_in:N + window]).mean()
-            info = etc.record()
-            err[s, i] = np.nan if info["theta_error"] is None else info["theta_error"]
+    one = functools.partial(_one_seed, system=system, model=model, cost=cost, M=M, Ns=Ns, window=window,
+                            burn_in=burn_in, amp=amp, w_radius=w_radius, use_w=use_w, theta_true=theta_true, x0=x0,
+                            input_bounds=input_bounds, seed=seed)
+    rows = sweep(one, {"s": list(range(seeds))}, backend=backend, client=client, ops_per_call=steps * _STEP_OPS / seeds)
+    E, Ek, tr, loss, err = (np.array([row[name] for row in rows])
+                            for name in ("explore", "known", "transient", "loss", "error"))
+    c0s = [row["c0"] for row in rows]
     out = Tradeoff(Ns=Ns.astype(float), explore_cost=E, known_cost=Ek, transient=tr, loss=loss, errors=err,
                    c0=float(np.mean(c0s)), window=window, burn_in=burn_in)
     out.fit = _fit(out)
     return out
+
+
+def _one_seed(s, system, model, cost, M, Ns, window, burn_in, amp, w_radius, use_w, theta_true, x0, input_bounds,
+              seed) -> dict:
+    """The measurements of :func:`exploration_tradeoff` for seed ``seed + s``: one disturbance and one PRBS for every N
+    (nested in N), the known system's run on them, and one run of Algorithm 2 per N."""
+    from . import disturbances
+    from .controllers import EstimateThenControl, PreviewRHC
+    from .estimation import prbs
+    from .simulate import simulate
+
+    n, m, k = system.n, system.m, Ns.size
+    E, Ek, tr, loss, err = (np.zeros(k) for _ in range(5))
+    known = PreviewRHC(system, cost, M, input_bounds=input_bounds)
+    L = int(Ns[-1]) + window
+    w = disturbances.uniform_box(L + M, n, -w_radius, w_radius, seed=np.random.default_rng([seed + s, 1]))
+    exc = prbs(int(Ns[-1]), m, amplitude=amp, seed=np.random.default_rng([seed + s, 2]))
+    ref = simulate(system, known, x0, w, L).costs
+    for i, N in enumerate(Ns):
+        N = int(N)
+        etc = EstimateThenControl(model, cost, M, N, excitation=exc[:N], use_w=use_w, theta_true=theta_true,
+                                  input_bounds=input_bounds)
+        c = simulate(system, etc, x0, w, N + window).costs
+        E[i], Ek[i] = c[:N].sum(), ref[:N].sum()
+        tr[i] = (c[N:N + burn_in] - ref[N:N + burn_in]).sum()
+        loss[i] = (c[N + burn_in:N + window] - ref[N + burn_in:N + window]).mean()
+        info = etc.record()
+        err[i] = np.nan if info["theta_error"] is None else info["theta_error"]
+    return {"explore": E, "known": Ek, "transient": tr, "loss": loss, "error": err, "c0": float(ref.mean())}
 
 
 def _fit(t: Tradeoff) -> dict:

@@ -69,6 +69,18 @@ CASES = [
          "dpi", ">= 100", "70"),
     case("explore-too-many-frames", lambda: explore(lambda M, a: small_figure(), M=list(range(30)), a=list(range(30)), live=False),
          "explore over 900 frames", "too large", "limit"),
+    case("explore-live-type", lambda: explore(a_plot, M=[1, 2], live="yes"),
+         "live", "True, False or None", "'yes'"),
+    case("explore-static-type", lambda: explore(a_plot, M=[1, 2], live=False, static=1),
+         "static", "True, False or None", "1"),
+    case("explore-shows-nothing", lambda: explore(a_plot, M=[1, 2], live=False, static=False),
+         "live=False and static=False", "shows nothing"),
+    case("explore-live-no-figure", lambda: explore(lambda M: None, M=[1, 2], live=True),
+         "plot must return a matplotlib Figure", "NoneType"),
+    case("render-live-type", lambda: figures.render_live("not a figure"),
+         "fig", "matplotlib Figure", "str"),
+    case("render-live-dpi", lambda: figures.render_live(small_figure(), dpi=99),
+         "dpi", ">= 100", "99"),
     case("constants-table-empty", lambda: theory_plots.constants_table({}),
          "constants", "non-empty dict"),
     case("constants-table-type", lambda: theory_plots.constants_table({"a": 1.0}),
@@ -91,6 +103,19 @@ CASES = [
 @pytest.mark.parametrize("call, exc, words", params(CASES))
 def test_bad_input_is_refused_with_a_clear_message(call, exc, words):
     assert_bad_input(call, exc, words)
+
+
+def test_every_build_sets_the_book_build_signal(monkeypatch, tmp_path):
+    """tools.build_book.build runs jupyter-book with ORRC_BOOK_BUILD=1 (what orrc.config.book_build
+    reads), for the published book, the test build and the solution-free edition alike."""
+    import tools.build_book as bb
+
+    seen = {}
+    monkeypatch.delenv("ORRC_BOOK_BUILD", raising=False)
+    monkeypatch.setattr(bb.subprocess, "call", lambda cmd, cwd, env: seen.setdefault("env", env) and 1)
+    assert bb.build(tmp_path, extra_env={"ORRC_QUICK": "1"}) == 1
+    assert seen["env"]["ORRC_BOOK_BUILD"] == "1" and seen["env"]["ORRC_QUICK"] == "1"
+    assert "ORRC_BOOK_BUILD" not in __import__("os").environ     # only the build's environment
 
 
 def test_a_test_size_build_is_refused_in_the_published_folder(monkeypatch):

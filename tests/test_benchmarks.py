@@ -12,7 +12,7 @@ import pytest
 
 import orrc
 
-from benchmarks import closed_loop, comparison, lq_path, minmax, pendulum, run
+from benchmarks import closed_loop, comparison, lq_path, minmax, pendulum, run, widgets
 from benchmarks.common import CheckFailed
 
 
@@ -96,7 +96,29 @@ def test_run_quick_prints_a_table_and_succeeds(capsys):
     out = capsys.readouterr().out
     assert "| benchmark |" in out and "pendulum M=5" in out and "LQ path T=40" in out
     assert "closed loop T=12" in out and "min-max, linear n=2, M=4" in out and "pendulum min-max M=5" in out
+    assert "demo #1 (M: 3, a: 2)" in out and "5/5 moves re-drew the figure" in out
     assert "targets not judged" in out
+
+
+def test_widget_benchmark_drives_every_explorer_in_a_kernel():
+    """Two explorers in one kernel: each found from the cell outputs, each slider driven through its
+    values and back; every move re-draws (a new PNG in the explorer's image), from the frames drawn
+    ahead while the kernel was idle, and again with the frames forgotten."""
+    cells = widgets.DEMO_CELLS + ["orrc.viz.explore(plot, M=[3, 4], a=[0.5], initial={'M': 4})"]
+    first, second = widgets.drive_cells(cells)
+    assert first["params"] == {"M": 3, "a": 2} and second["params"] == {"M": 2, "a": 1}
+    assert len(first["times"]) == 3 + 2 and len(second["times"]) == 2      # every other value, then back
+    for r, n in ((first, 6), (second, 2)):
+        assert r["redrawn"] == len(r["times"]) and r["cold_redrawn"] == len(r["cold"]) == len(r["times"])
+        assert r["stats"] == {"on_move": 0, "ahead": n - 1, "cached": len(r["times"])}
+        assert all(t > 0 for t in r["times"] + r["cold"])
+
+
+def test_widget_benchmark_catches_a_slider_that_redraws_nothing():
+    cells = ["import ipywidgets as w\nw.VBox([w.SelectionSlider(options=[1, 2, 3]), w.Image(format='png')])"]
+    cells.append("from IPython.display import display\nbar = w.HBox([w.FloatProgress()]); display(bar); bar.close()")
+    (r,) = widgets.drive_cells(cells)          # the closed widget (a finished progress bar) is no explorer
+    assert r["redrawn"] == 0 and len(r["times"]) == 3 and r["stats"] is None
 
 
 def test_minmax_benchmark_runs_and_its_methods_agree():

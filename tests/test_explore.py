@@ -118,13 +118,138 @@ def test_two_explorers_on_one_page_do_not_share_ids():
     assert a.divs[0]["id"] != b.divs[0]["id"]
 
 
-def test_live_widget_uses_the_same_plot_function():
+def test_live_widget_uses_the_same_plot_function_and_caches_its_frames():
     calls = []
     ex = explore(line_plot(calls), M=[2, 5], gamma=[1.0], live=True)
     bundle = ex._repr_mimebundle_()
-    assert "application/vnd.jupyter.widget-view+json" in bundle and "text/html" in bundle
-    # the widget drew the initial view with the same function (one extra call after the 2 frames)
-    assert calls[:2] == [(2, 1.0), (5, 1.0)] and calls[2:] == [(2, 1.0)]
+    # a live widget only: no static frames rendered (a live kernel never shows them)
+    assert "application/vnd.jupyter.widget-view+json" in bundle and "text/html" not in bundle
+    assert ex.frames is None and ex.html is None
+    assert calls == [(2, 1.0)], "the first view only, drawn by the same plot function"
+    view = ex.view
+    first = bytes(view.image.value)
+    assert first.startswith(b"\x89PNG")
+    view.sliders["M"].value = 5                  # a move draws the new grid point
+    assert calls[-1] == (5, 1.0) and bytes(view.image.value) != first
+    view.sliders["M"].value = 2                  # and a move back shows the cached frame
+    assert len(calls) == 2 and bytes(view.image.value) == first
+    assert view.stats == {"on_move": 1, "ahead": 0, "cached": 1}
+
+
+def test_the_live_frame_is_the_wide_static_frame():
+    ex = explore(line_plot([], width=9.0), M=[2], gamma=[1.0], live=True, static=True)
+    from PIL import Image
+
+    live = Image.open(io.BytesIO(bytes(ex.view.image.value)))
+    wide = Image.open(io.BytesIO(base64.b64decode(ex.frames["images"]["0_0"])))
+    assert live.size == wide.size == (740, 150)           # narrowed to WIDE_IN = 7.4 in, at 100 dpi
+    bundle = ex._repr_mimebundle_()                        # both asked for: both shown
+    assert "text/html" in bundle and "application/vnd.jupyter.widget-view+json" in bundle
+
+
+def test_in_a_live_kernel_only_the_widget_and_in_the_book_build_only_the_frames(monkeypatch):
+    import importlib
+
+    import orrc
+
+    ex_mod = importlib.import_module("orrc.viz.explore")   # the module (orrc.viz.explore is the function)
+    monkeypatch.setattr(ex_mod, "in_kernel", lambda: True)
+    monkeypatch.delenv("ORRC_BOOK_BUILD", raising=False)
+    calls = []
+    live = explore(line_plot(calls), M=[2, 5, 10], gamma=[1.0])
+    assert live.widget is not None and live.html is None and calls == [(2, 1.0)]
+    monkeypatch.setenv("ORRC_BOOK_BUILD", "1")
+    assert orrc.config.book_build()
+    calls.clear()
+    built = explore(line_plot(calls), M=[2, 5, 10], gamma=[1.0])
+    assert built.widget is None and 'class="orrc-frames"' in built.html
+    assert sorted(calls) == [(2, 1.0), (5, 1.0), (10, 1.0)]
+    monkeypatch.setattr(ex_mod, "in_kernel", lambda: False)   # outside a kernel: the frames, build or not
+    monkeypatch.delenv("ORRC_BOOK_BUILD")
+    plain = explore(line_plot([]), M=[2, 5], gamma=[1.0])
+    assert plain.widget is None and plain.html is not None
+
+
+def test_in_a_real_kernel_the_build_signal_decides_what_is_shown():
+    """The same explorer cell in a Jupyter kernel: without ORRC_BOOK_BUILD only the live widget is
+    output (no static frames rendered); with ORRC_BOOK_BUILD=1 (what tools/build_book.py sets) only
+    the static frames."""
+    from benchmarks.widgets import DEMO_CELLS, ROOT, Kernel, kernel_env
+
+    k = Kernel(ROOT / "book", kernel_env(quick=False))
+    try:
+        k.run(DEMO_CELLS[0])
+        bundles = []
+        for setup in ("", "import os; os.environ['ORRC_BOOK_BUILD'] = '1'\n"):
+            msgs = k.run(setup + DEMO_CELLS[1])
+            (result,) = [m["content"]["data"] for m in msgs if m["msg_type"] == "execute_result"]
+            bundles.append(result)
+    finally:
+        k.close()
+    live, built = bundles
+    assert "application/vnd.jupyter.widget-view+json" in live and "text/html" not in live
+    assert "application/vnd.jupyter.widget-view+json" not in built and 'class="orrc-frames"' in built["text/html"]
+    assert len(parse(built["text/html"]).sliders) == 2
+
+
+@pytest.mark.parametrize("value, expected", [("1", True), ("true", True), (" YES ", True), ("", False),
+                                             ("0", False), ("no", False)])
+def test_the_book_build_signal_is_read_from_the_environment(monkeypatch, value, expected):
+    import orrc
+
+    monkeypatch.setenv("ORRC_BOOK_BUILD", value)
+    assert orrc.config.book_build() is expected
+
+
+def test_live_view_draws_ahead_in_the_kernels_event_loop():
+    """In a kernel the frames not yet drawn are drawn while the loop is idle (here: an asyncio loop
+    of its own, in a thread, as the kernel's runs its cells), the neighbours of the first view first;
+    afterwards every move is from the cache."""
+    import asyncio
+    import threading
+
+    from orrc.viz import LiveView
+
+    calls, out = [], {}
+    grid = {"M": [2, 5, 10], "gamma": [1.0, 2.0]}
+
+    async def main():
+        view = LiveView(line_plot(calls), grid, {"M": 5, "gamma": 1.0}, 100, ahead=True)
+        for _ in range(500):
+            await asyncio.sleep(0.01)
+            if view.pending == 0:
+                break
+        out["view"] = view
+
+    thread = threading.Thread(target=lambda: asyncio.run(main()))
+    thread.start()
+    thread.join(timeout=60)
+    view = out["view"]
+    assert calls[0] == (5, 1.0) and set(calls[1:3]) == {(10, 1.0), (2, 1.0)} and calls[3] == (5, 2.0)
+    assert sorted(calls) == sorted((M, g) for M in grid["M"] for g in grid["gamma"])
+    assert view.stats["ahead"] == 5 and view.pending == 0
+    for M in (2, 10, 5):
+        view.sliders["M"].value = M
+    assert len(calls) == 6 and view.stats["on_move"] == 0 and view.stats["cached"] == 3
+
+
+def test_outside_a_kernel_nothing_is_drawn_ahead():
+    calls = []
+    ex = explore(line_plot(calls), M=[2, 5, 10], gamma=[1.0], live=True)
+    assert ex.view.pending == 2 and calls == [(2, 1.0)]
+
+
+def test_a_plotting_error_on_a_move_leaves_the_last_frame():
+    def plot(M):
+        if M == 3:
+            raise RuntimeError("no frame for M = 3")
+        return line_plot([])(M, 1.0)
+
+    ex = explore(plot, M=[1, 3], live=True)
+    before = bytes(ex.view.image.value)
+    with pytest.raises(RuntimeError, match="no frame for M = 3"):   # in a kernel: shown in view.messages
+        ex.view.sliders["M"].value = 3
+    assert bytes(ex.view.image.value) == before and (1,) not in ex.view.frames
 
 
 def test_wide_frames_carry_a_narrow_variant_for_phones():

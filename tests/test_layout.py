@@ -27,12 +27,13 @@ PUBLIC = {
                         "gaussian", "prbs", "multisine", "least_squares_linear", "least_squares_parametric",
                         "Dictionary", "polynomial_dictionary", "rbf_dictionary", "edmd", "EDMD", "prediction_error"],
     "orrc": ["OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning",
-             "ParametricSystem", "LinearParametricSystem", "L1Cost", "EstimateThenControl", "LiftedRHC", "MinMaxRHC"],
+             "ParametricSystem", "LinearParametricSystem", "L1Cost", "EstimateThenControl", "LiftedRHC", "MinMaxRHC",
+             "sweep", "Table", "SweepError"],
     "orrc.solvers": ["Plan", "MinMaxPlan", "SolverWarning", "SolverError"],
     "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "MinMaxRHC", "LQR", "Clairvoyant",
                          "ZeroInput", "FailureLadder", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal",
                          "LiftedRHC", "EstimateThenControl", "Excitation"],
-    "orrc.viz": ["explore", "Explorer", "figure_to_png", "figures", "glue", "plots", "theory_plots", "comparison_plots",
+    "orrc.viz": ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue", "plots", "theory_plots", "comparison_plots",
                  "unknown_plots", "minmax_plots"],
 }
 
@@ -41,7 +42,7 @@ SECTIONS = {
     "orrc.certify": ["constants", "sampled", "attenuation", "regret", "lipschitz", "minmax"],
     "orrc.checks": ["known", "unknown", "nopreview"],
     "orrc.estimation": ["excitation", "data", "linear", "parametric", "edmd"],
-    "orrc.viz": ["explore", "notebook"],
+    "orrc.viz": ["explore", "live", "notebook"],
 }
 
 

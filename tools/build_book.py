@@ -9,6 +9,11 @@ Two builds, two folders, never mixed:
   test size (``ORRC_QUICK=1``), into a folder of its own (``_build/test/_build/html``).
   :func:`build` refuses to write a test-size build into ``_build/html``.
 
+Every build sets ``ORRC_BOOK_BUILD=1`` in the environment of the chapters' kernels: the explicit
+signal (``orrc.config.book_build()``) that a chapter runs for the HTML book, so that
+``orrc.viz.explore`` renders its static frames (a live notebook shows only the widget) and progress
+bars stay silent.
+
 Any cell error or Sphinx warning fails the build (``-n -W --keep-going``). Every page is
 rebuilt and every chapter re-executed on every call (``--all`` with the forced
 execution of ``_config.yml``): Sphinx's incremental build only sees changes to the
@@ -35,6 +40,7 @@ PUBLISHED_HTML = ROOT / "_build" / "html"
 TEST_OUT = ROOT / "_build" / "test"  # jupyter-book's --path-output for the test build
 STAMP = "orrc-build.json"
 CACHE = ".jupyter_cache"  # MyST-NB's default place, beside html/
+BUILD_SIGNAL = "ORRC_BOOK_BUILD"  # read by orrc.config.book_build(): explorers render static frames, no progress bars
 INPUTS = ("_config.yml", "_toc.yml", "book/**/*", "orrc/**/*.py")
 
 
@@ -69,6 +75,7 @@ def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT) 
     env = dict(os.environ)
     env.setdefault("MPLBACKEND", "Agg")
     env.update(extra_env or {})
+    env[BUILD_SIGNAL] = "1"   # the chapters run for the HTML book, not in a live notebook (orrc.config.book_build)
     if is_quick(env) and html_dir(out).resolve() == PUBLISHED_HTML.resolve():
         raise ValueError(f"a test-size build (ORRC_QUICK={env['ORRC_QUICK']!r}) must not be written to "
                          f"{PUBLISHED_HTML}, which holds the full book; build it into {TEST_OUT} instead")

@@ -1,19 +1,23 @@
 """One plotting function, two front ends: a live ipywidgets slider and static frames.
 
-``explore(plot, M=[5, 10, 20], gamma=[1, 2, 4])`` calls ``plot(M=..., gamma=...)``
-(a function returning a matplotlib Figure) for every combination of the listed
-values, and returns an :class:`Explorer` whose notebook output carries
+``explore(plot, M=[5, 10, 20], gamma=[1, 2, 4])`` makes an :class:`Explorer` over the grid of
+``plot(M=..., gamma=...)`` (a function returning a matplotlib Figure). What it renders depends on
+where it runs, decided from explicit signals, not guessed:
 
-* ``application/vnd.jupyter.widget-view+json``: live ipywidgets sliders that re-draw
-  with the same ``plot`` in a running kernel (JupyterLab shows this one), and
-* ``text/html``: the precomputed frames with HTML range sliders and a few lines
-  of JavaScript that flip between them, no kernel needed (the rendered book shows
-  this one: ``_config.yml`` drops the widget mime type for the HTML builder).
+* **in a live kernel** (JupyterLab, a notebook; ``live``): only the live widget,
+  :class:`orrc.viz.live.LiveView`: sliders whose moves show the frame of the new grid point, drawn
+  by the same ``plot``, cached per grid point and drawn ahead while the kernel is idle. Its
+  notebook output is ``application/vnd.jupyter.widget-view+json``.
+* **in the book's build** (``orrc.config.book_build()``: ``ORRC_BOOK_BUILD=1``, set by
+  ``tools/build_book.py``), and outside a kernel (plain Python, the tests), where no widget could
+  be shown: the static frames (``static``), ``text/html`` with the precomputed frames, HTML range
+  sliders and a few lines of JavaScript that flip between them, no kernel needed (the rendered book
+  shows this one).
 
-Because both come from the same ``plot`` function, they cannot drift apart. Every
-frame is rendered twice by :func:`orrc.viz.figures.render`, at 100 dpi with fonts of
-at least 9 pt: wide, and narrow for a phone (panels stacked); the page shows the one
-that fits its column (:func:`orrc.viz.figures.picture_html`).
+Because both come from the same ``plot`` function, they cannot drift apart. Every static frame
+is rendered twice by :func:`orrc.viz.figures.render`, at 100 dpi with fonts of at least 9 pt:
+wide, and narrow for a phone (panels stacked); the page shows the one that fits its column
+(:func:`orrc.viz.figures.picture_html`). The live widget shows the wide rendering.
 
 The HTML contract (used by the browser tests): a ``div.orrc-frames`` holding one
 ``input.orrc-slider[type=range]`` per parameter and a ``div.orrc-figure`` with an
@@ -33,6 +37,7 @@ import uuid
 
 from .._validate import OrrcValueError, as_int, check_size
 from .figures import DPI, figure_to_png, picture_html, render  # noqa: F401 (figure_to_png: re-exported)
+from .live import _fmt, check_figure
 
 _JS = """
 (function () {
@@ -58,33 +63,51 @@ _JS = """
 """
 
 
-def _fmt(v) -> str:
-    return f"{v:g}" if isinstance(v, float) else str(v)
+def _as_switch(name: str, value) -> bool:
+    if not isinstance(value, bool):
+        raise OrrcValueError(f"{name} must be True, False or None (decided from where it runs); got {value!r}")
+    return value
+
+
+def in_kernel() -> bool:
+    """True inside a Jupyter kernel (an IPython shell with a kernel), where a live widget can be shown."""
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover - IPython comes with the book's dependencies
+        return False
+    ip = get_ipython()
+    return ip is not None and hasattr(ip, "kernel")
 
 
 class Explorer:
-    """The result of :func:`explore`: displays as live widget or static frames."""
+    """The result of :func:`explore`: displays as the live widget (``live``) or the static frames
+    (``static``), or both when both were asked for.
 
-    def __init__(self, plot, params: dict, initial: dict, dpi: int, live: bool):
+    ``frames``: ``{"images": ..., "narrow": ...}`` of the static frames and ``html`` their HTML (None
+    without static frames); ``view``: the :class:`orrc.viz.live.LiveView` and ``widget`` its
+    ipywidget (None without the live widget).
+    """
+
+    def __init__(self, plot, params: dict, initial: dict, dpi: int, live: bool, static: bool):
         self.plot, self.params, self.initial, self.dpi = plot, params, initial, dpi
-        self.frames = self._render_frames()
-        self.html = self._html()
-        self.widget = self._widget() if live else None
+        self.frames = self._render_frames() if static else None
+        self.html = self._html() if static else None
+        if live:
+            from .live import LiveView
+
+            self.view = LiveView(plot, params, initial, dpi)
+            self.widget = self.view.widget
+        else:
+            self.view = self.widget = None
 
     def _render_frames(self) -> dict:
         """``{"images": key -> wide PNG (base64), "narrow": key -> narrow PNG or None}``."""
-        from matplotlib.figure import Figure
-
         names = list(self.params)
         wide, narrow = {}, {}
         for idx in itertools.product(*(range(len(self.params[k])) for k in names)):
             kwargs = {k: self.params[k][i] for k, i in zip(names, idx)}
             key = "_".join(map(str, idx))
-            fig = self.plot(**kwargs)
-            if not isinstance(fig, Figure):
-                raise OrrcValueError(f"plot must return a matplotlib Figure; plot({kwargs}) returned "
-                                     f"{type(fig).__name__}")
-            w, n = render(fig, self.dpi)
+            w, n = render(check_figure(self.plot(**kwargs), kwargs), self.dpi)
             wide[key] = base64.b64encode(w).decode("ascii")
             narrow[key] = None if n is None else base64.b64encode(n).decode("ascii")
         has_narrow = all(v is not None for v in narrow.values())
@@ -116,30 +139,10 @@ class Explorer:
                 + f'<script type="application/json" class="orrc-frame-data">{data}</script>'
                 + f"<script>{_JS % {'id': json.dumps(uid)}}</script></div>")
 
-    def _widget(self):
-        import ipywidgets as widgets
-        import matplotlib.pyplot as plt
-        from IPython.display import display
-
-        out = widgets.Output()
-        sliders = {k: widgets.SelectionSlider(options=[(_fmt(v), v) for v in vals], value=self.initial[k],
-                                              description=k, continuous_update=False)
-                   for k, vals in self.params.items()}
-
-        def redraw(_=None):
-            with out:
-                out.clear_output(wait=True)
-                fig = self.plot(**{k: s.value for k, s in sliders.items()})
-                display(fig)
-                plt.close(fig)
-
-        for s in sliders.values():
-            s.observe(redraw, names="value")
-        redraw()
-        return widgets.VBox([*sliders.values(), out])
-
     def _repr_mimebundle_(self, include=None, exclude=None):
-        bundle = {"text/plain": f"<orrc explorer over {', '.join(self.params)}>", "text/html": self.html}
+        bundle = {"text/plain": f"<orrc explorer over {', '.join(self.params)}>"}
+        if self.html is not None:
+            bundle["text/html"] = self.html
         if self.widget is not None:
             wb = self.widget._repr_mimebundle_()
             if isinstance(wb, tuple):
@@ -148,14 +151,19 @@ class Explorer:
         return bundle
 
 
-def explore(plot, dpi: int = DPI, live: bool = True, initial: dict | None = None, **params) -> Explorer:
-    """Precompute ``plot(**kwargs)`` on the grid of ``params`` and return an :class:`Explorer`.
+def explore(plot, dpi: int = DPI, live: bool | None = None, initial: dict | None = None,
+            static: bool | None = None, **params) -> Explorer:
+    """An :class:`Explorer` of ``plot(**kwargs)`` over the grid of ``params``.
 
-    ``params``: name -> list of values (e.g. ``M=[2, 5, 10]``); ``initial``: the
-    values shown first (default: the first of each list); ``dpi``: at least 100 (below
-    it tick labels are illegible). Keep grids small (a few values each): every
-    combination is two precomputed images (wide and narrow).
+    ``params``: name -> list of values (e.g. ``M=[2, 5, 10]``); ``initial``: the values shown
+    first (default: the first of each list); ``dpi``: at least 100 (below it tick labels are
+    illegible). ``live``: make the live widget (default: in a Jupyter kernel, except in the book's
+    build); ``static``: render the static frames (default: in the book's build,
+    ``orrc.config.book_build()``, and wherever there is no live widget). Keep grids small (a few
+    values each): every combination is two precomputed images (wide and narrow) in the book.
     """
+    from .. import config
+
     dpi = as_int("dpi", dpi, minimum=DPI)
     if not callable(plot):
         raise OrrcValueError(f"plot must be a function returning a matplotlib Figure; got {type(plot).__name__}")
@@ -178,4 +186,9 @@ def explore(plot, dpi: int = DPI, live: bool = True, initial: dict | None = None
         initial.setdefault(k, v[0])
         if initial[k] not in v:
             raise OrrcValueError(f"initial value {initial[k]!r} of {k!r} is not among its values {v}")
-    return Explorer(plot, params, initial, dpi, live)
+    build = config.book_build()
+    live = (in_kernel() and not build) if live is None else _as_switch("live", live)
+    static = (build or not live) if static is None else _as_switch("static", static)
+    if not (live or static):
+        raise OrrcValueError("explore with live=False and static=False shows nothing; ask for at least one")
+    return Explorer(plot, params, initial, dpi, live, static)

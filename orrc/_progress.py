@@ -1,0 +1,48 @@
+"""Progress bars for the long computations of the book: seen in a live notebook, never in the HTML.
+
+``for M in orrc.progress(Ms, desc="horizons"): ...`` is the loop over ``Ms`` with a progress bar
+(``tqdm.auto``: a widget in a Jupyter kernel, text in a terminal) that appears only once the loop
+has run for ``delay`` seconds (2 by default), so a quick loop shows nothing. No bar at all:
+
+* in the book's build (``orrc.config.book_build()``, ``ORRC_BOOK_BUILD=1``): the executed chapters
+  keep no progress output and no stray standard error;
+* outside a kernel when standard error is not a terminal (tests, scripts piped to a file).
+"""
+from __future__ import annotations
+
+import sys
+
+__all__ = ["progress", "watched"]
+
+
+def watched() -> bool:
+    """A reader is watching: a Jupyter kernel or a terminal, and not the book's build."""
+    from . import config
+
+    if config.book_build():
+        return False
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    if shell is not None and hasattr(shell, "kernel"):
+        return True
+    return bool(getattr(sys.stderr, "isatty", lambda: False)())
+
+
+def progress(iterable, desc: str | None = None, total: int | None = None, delay: float = 2.0):
+    """``iterable`` with a progress bar while a reader is watching (:func:`watched`), else ``iterable``
+    itself. ``desc``: the bar's label; ``total``: the number of items (default ``len(iterable)`` when
+    it has one); ``delay``: seconds before the bar appears (a loop that ends sooner shows none)."""
+    from ._validate import OrrcValueError, as_float, as_int
+
+    if not hasattr(iterable, "__iter__"):
+        raise OrrcValueError(f"iterable must be something to loop over (a list, a range, ...); got "
+                             f"{type(iterable).__name__}")
+    if desc is not None and not isinstance(desc, str):
+        raise OrrcValueError(f"desc must be a string (the bar's label) or None; got {type(desc).__name__}")
+    total = None if total is None else as_int("total", total, minimum=0)
+    delay = as_float("delay", delay, minimum=0.0)
+    if not watched():
+        return iterable
+    from tqdm.auto import tqdm
+
+    return tqdm(iterable, desc=desc, total=total, delay=delay, leave=False)

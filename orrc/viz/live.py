@@ -1,0 +1,151 @@
+"""The live widget of an explorer: sliders over the grid, the figure as an image, frames cached.
+
+A slider move in a live kernel shows the frame of the new grid point. Drawing a frame (the
+chapter's plotting function, then one PNG) takes 0.1 to 1 s; showing a PNG already drawn takes
+milliseconds. So :class:`LiveView` keeps every frame it has drawn (one PNG per grid point, keyed
+by the slider positions) and, while the kernel is idle, draws the frames not yet drawn *ahead* of
+the reader: one frame per turn of the kernel's event loop (on the kernel's own thread, so the
+plotting function never runs concurrently with a cell or with itself), the neighbours of the
+initial view first. A move to a frame not yet drawn draws it on the spot.
+
+The figure is an ``ipywidgets.Image`` whose value is replaced in place (no flicker, no clearing
+of an output area); errors of the plotting function appear in an ``Output`` below it. Each PNG is
+:func:`orrc.viz.figures.render_live`: the wide rendering of the book's frames (same size, fonts
+and layout), in full colour with light compression.
+"""
+from __future__ import annotations
+
+import itertools
+import time
+
+from .._validate import OrrcValueError
+from .figures import render_live
+
+__all__ = ["LiveView"]
+
+
+def _fmt(v) -> str:
+    return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+def _running_loop():
+    """The kernel's asyncio event loop when this runs inside one (ipykernel runs cells in it), else None."""
+    import asyncio
+
+    try:
+        return asyncio.get_running_loop()
+    except RuntimeError:
+        return None
+
+
+def check_figure(fig, kwargs: dict):
+    """``fig`` when the plotting function returned a matplotlib Figure, else a clear error."""
+    from matplotlib.figure import Figure
+
+    if not isinstance(fig, Figure):
+        raise OrrcValueError(f"plot must return a matplotlib Figure; plot({kwargs}) returned {type(fig).__name__}")
+    return fig
+
+
+class LiveView:
+    """Sliders (one ``SelectionSlider`` per parameter), the frame as an ``Image``, frames cached per
+    grid point and drawn ahead while the kernel is idle (see the module docstring).
+
+    ``ahead``: draw the frames ahead in the running asyncio loop (default: when in a Jupyter kernel).
+    ``widget``: the ``VBox`` to display. ``stats``: how many frames were drawn on a move
+    (``on_move``), ahead of the reader (``ahead``) and shown from the cache (``cached``).
+    """
+
+    def __init__(self, plot, params: dict, initial: dict, dpi: int, ahead: bool | None = None):
+        import ipywidgets as widgets
+
+        self.plot, self.params, self.dpi = plot, params, dpi
+        self.names = list(params)
+        self.frames: dict[tuple, bytes] = {}
+        self.failed: set[tuple] = set()
+        self.stats = {"on_move": 0, "ahead": 0, "cached": 0}
+        self.sliders = {k: widgets.SelectionSlider(options=[(_fmt(v), v) for v in vals], value=initial[k],
+                                                   description=k, continuous_update=False)
+                        for k, vals in params.items()}
+        self.image = widgets.Image(format="png", layout=widgets.Layout(max_width="100%", height="auto"))
+        self.messages = widgets.Output()
+        self.widget = widgets.VBox([*self.sliders.values(), self.image, self.messages])
+        start = self.key()
+        self.image.value = self.frame(start)       # the first view: drawn now (a plotting error raises here)
+        self.stats["on_move"] = 0
+        for s in self.sliders.values():
+            s.observe(self._moved, names="index")
+        self._queue = self._order(start)
+        if ahead is None:                           # in a Jupyter kernel: its event loop runs the cells
+            from .explore import in_kernel
+
+            ahead = in_kernel()
+        self._loop = _running_loop() if ahead else None
+        if self._loop is not None:
+            self._loop.call_soon(self._draw_ahead)
+
+    @property
+    def pending(self) -> int:
+        """How many frames are still to be drawn ahead (0: every move is shown from the cache)."""
+        return sum(1 for k in self._queue if k not in self.frames and k not in self.failed)
+
+    def key(self) -> tuple:
+        """The slider positions, one index per parameter."""
+        return tuple(self.sliders[k].index for k in self.names)
+
+    def kwargs(self, key: tuple) -> dict:
+        return {k: self.params[k][i] for k, i in zip(self.names, key)}
+
+    def _order(self, start: tuple) -> list[tuple]:
+        """The grid points to draw ahead: along each slider from the initial view outwards (nearest
+        first: the moves a reader makes next), then the rest of the grid."""
+        first = []
+        for j, k in enumerate(self.names):
+            n = len(self.params[k])
+            for d in range(1, n):
+                for i in (start[j] + d, start[j] - d):
+                    if 0 <= i < n:
+                        first.append(start[:j] + (i,) + start[j + 1:])
+        rest = [key for key in itertools.product(*(range(len(self.params[k])) for k in self.names))
+                if key != start and key not in first]
+        return first + rest
+
+    def frame(self, key: tuple) -> bytes:
+        """The PNG of grid point ``key``: from the cache, or drawn now (and kept)."""
+        png = self.frames.get(key)
+        if png is None:
+            kwargs = self.kwargs(key)
+            png = render_live(check_figure(self.plot(**kwargs), kwargs), self.dpi)
+            self.frames[key] = png
+            self.stats["on_move"] += 1
+        else:
+            self.stats["cached"] += 1
+        return png
+
+    def _moved(self, _change=None) -> None:
+        key = self.key()
+        with self.messages:
+            self.messages.clear_output()
+            self.image.value = self.frame(key)
+
+    def _draw_ahead(self) -> None:
+        """Draw the next frame not yet drawn, then give the kernel back its loop (one frame per turn)."""
+        while self._queue and (self._queue[0] in self.frames or self._queue[0] in self.failed):
+            self._queue.pop(0)
+        if not self._queue or getattr(self.widget, "comm", None) is None:   # done, or the widget was closed
+            return
+        key = self._queue.pop(0)
+        try:
+            kwargs = self.kwargs(key)
+            self.frames[key] = render_live(check_figure(self.plot(**kwargs), kwargs), self.dpi)
+            self.stats["ahead"] += 1
+        except Exception:  # noqa: BLE001 - shown when the reader moves there (drawn on the move, in messages)
+            self.failed.add(key)
+        self._loop.call_later(0.005, self._draw_ahead)
+
+    def time_frame(self, key: tuple) -> float:
+        """Seconds to draw grid point ``key`` from scratch (not cached): what a move costs without the cache."""
+        t0 = time.perf_counter()
+        kwargs = self.kwargs(key)
+        render_live(check_figure(self.plot(**kwargs), kwargs), self.dpi)
+        return time.perf_counter() - t0
