@@ -89,8 +89,10 @@ def legend_below(ax, fontsize: float = MIN_FONT_PT + 1, ncol: int = 1, **kw):
     label = ax.xaxis.label.get_fontsize() if ax.get_xlabel() else 0.0
     drop = 1.3 * (max(ticks) + label) + 10.0          # points: two text lines, the ticks and the pads
     to_anchor = ax.transAxes + ScaledTranslation(0, -drop / 72, ax.figure.dpi_scale_trans)
-    return ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=to_anchor, ncol=ncol,
-                     frameon=False, fontsize=fontsize, **kw)
+    leg = ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=to_anchor, ncol=ncol,
+                    frameon=False, fontsize=fontsize, **kw)
+    leg._orrc_below = True   # narrowed() re-makes it in one column with the same drop
+    return leg
 
 
 # ---------------------------------------------------------------- legibility
@@ -276,7 +278,7 @@ class narrowed:
                 if leg is not None:
                     anchor = leg.get_bbox_to_anchor().transformed(ax.transAxes.inverted())
                     if leg._ncols > 1:
-                        self._one_column(ax, leg, anchor)
+                        self._one_column(ax, leg)
                     if anchor.y1 < 0.05:  # a legend below the axes: room for its rows
                         extra += 0.19 * len(leg.get_texts()) + 0.15
         sup = getattr(fig, "_suptitle", None)
@@ -287,14 +289,18 @@ class narrowed:
         self._set(lambda wh: fig.set_size_inches(*wh), tuple(fig.get_size_inches()), size)
         return fig
 
-    def _one_column(self, ax, leg, anchor) -> None:
+    def _one_column(self, ax, leg) -> None:
         """Replace the axes' legend by the same legend in one column (a legend's layout is fixed
         when it is made), and put the original back on exit."""
         texts = leg.get_texts()
-        new = ax.legend(leg.legend_handles, [t.get_text() for t in texts], loc=leg._loc,
-                        bbox_to_anchor=(anchor.x0, anchor.y0, anchor.width, anchor.height),
-                        bbox_transform=ax.transAxes, ncols=1, frameon=leg.get_frame_on(),
-                        fontsize=texts[0].get_fontsize() if texts else None)
+        labels, size = [t.get_text() for t in texts], texts[0].get_fontsize() if texts else None
+        if getattr(leg, "_orrc_below", False):   # made by legend_below: the same drop under the x label
+            new = legend_below(ax, fontsize=size, handles=leg.legend_handles, labels=labels)
+        else:
+            anchor = leg.get_bbox_to_anchor().transformed(ax.transAxes.inverted())
+            new = ax.legend(leg.legend_handles, labels, loc=leg._loc,
+                            bbox_to_anchor=(anchor.x0, anchor.y0, anchor.width, anchor.height),
+                            bbox_transform=ax.transAxes, ncols=1, frameon=leg.get_frame_on(), fontsize=size)
         self._undo.append((lambda old, a=ax: setattr(a, "legend_", old), leg))
         new.set_in_layout(leg.get_in_layout())
 
