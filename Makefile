@@ -20,10 +20,10 @@ $(STAMP): requirements.txt pyproject.toml
 	$(PY) -m pip install --quiet --no-deps -e .
 	touch $(STAMP)
 
-# the published book, at full size, into _build/html (ORRC_QUICK is ignored here; ORRC_BOOK_BUILD=1: the
-# chapters run for the HTML book, so orrc.sweep shows no progress bar)
+# the published book, at full size, into _build/html (ORRC_QUICK is ignored here; tools.build_book sets
+# ORRC_BOOK_BUILD=1 for the chapters: static frames, no progress bars)
 book: $(STAMP)
-	set -eo pipefail; env -u ORRC_QUICK ORRC_BOOK_BUILD=1 $(PY) -m tools.build_book
+	set -eo pipefail; env -u ORRC_QUICK $(PY) -m tools.build_book
 
 # the solution-free edition, into _build/student/html (reuses a fresh `make book`'s executed chapters)
 book-student: $(STAMP)

@@ -45,11 +45,11 @@ import itertools
 import math
 import numbers
 import os
-import sys
 import time
 
 import numpy as np
 
+from ._progress import watched
 from ._validate import OrrcValueError, _describe, as_float, as_int, check_size
 
 __all__ = ["sweep", "Table", "SweepError", "BACKENDS"]
@@ -198,20 +198,6 @@ def _seed_plan(seeds, seed, common_seeds: bool, n_points: int):
 
 
 # -- the sweep --------------------------------------------------------------------------------------
-def _book_build() -> bool:
-    return os.environ.get("ORRC_BOOK_BUILD", "").strip().lower() in ("1", "true", "yes")
-
-
-def _interactive() -> bool:
-    """A reader is watching: an IPython kernel or a terminal, and not the book's build."""
-    if _book_build():
-        return False
-    shell = sys.modules.get("IPython") and getattr(sys.modules["IPython"], "get_ipython", lambda: None)()
-    if shell is not None and type(shell).__name__ == "ZMQInteractiveShell":
-        return True
-    return bool(getattr(sys.stderr, "isatty", lambda: False)())
-
-
 def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, backend: str | None = None,
           client=None, workers: int | None = None, chunksize: int | None = None, progress: bool | None = None,
           on_error: str = "raise", ops_per_call: float = CALL_OPS) -> Table:
@@ -321,7 +307,7 @@ def _check_signature(fn, point: dict, with_seed: bool):
 
 
 def _bar(total: int, progress):
-    if not (progress if progress is not None else _interactive()):
+    if not (progress if progress is not None else watched()):
         return None
     from tqdm.auto import tqdm
 
