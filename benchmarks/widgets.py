@@ -40,7 +40,8 @@ _INSPECT = r"""
 def _orrc_bench_views():
     import gc
     from orrc.viz.live import LiveView
-    return {v.widget.model_id: v for v in gc.get_objects() if isinstance(v, LiveView)}
+    # type(), not isinstance(): gc also holds dead weakref proxies, which raise ReferenceError on any use
+    return {v.widget.model_id: v for v in gc.get_objects() if type(v) is LiveView}
 
 def _orrc_bench_pending():
     print(sum(v.pending for v in _orrc_bench_views().values()))
