@@ -24,7 +24,7 @@ import casadi as ca
 import numpy as np
 
 from ._validate import OrrcValueError, as_array, as_int, check_evaluates
-from .systems import LinearSystem, NonlinearSystem, System, traced
+from .systems import LinearSystem, NonlinearSystem, System, model_header, traced
 
 __all__ = ["ParametricSystem", "LinearParametricSystem"]
 
@@ -46,14 +46,8 @@ class ParametricSystem(System):
 
     def __init__(self, f: Callable, n_states: int, n_inputs: int, n_params: int,
                  name: str = "parametric system", param_names=None):
-        if not callable(f):
-            raise OrrcValueError(f"f must be callable f(x, u, w, theta); got {type(f).__name__}")
-        if not isinstance(name, str):
-            raise OrrcValueError(f"name must be a string; got {type(name).__name__}")
-        self.n = as_int("n_states", n_states, minimum=1)
-        self.m = as_int("n_inputs", n_inputs, minimum=1)
+        self.n, self.m, self.name = model_header(f, "f(x, u, w, theta)", n_states, n_inputs, name)
         self.n_params = as_int("n_params", n_params, minimum=1)
-        self.name = name
         if param_names is None:
             param_names = [f"theta[{i}]" for i in range(self.n_params)]
         param_names = [str(s) for s in param_names]

@@ -114,6 +114,16 @@ class LinearSystem(System):
         return f"LinearSystem(n={self.n}, m={self.m}, name={self.name!r})"
 
 
+def model_header(f, call: str, n_states, n_inputs, name) -> tuple[int, int, str]:
+    """(n, m, name) of a model given by a user's function ``f`` (called as ``call``, e.g. "f(x, u, w)"),
+    checked: f callable, the dimensions integers >= 1, the name a string."""
+    if not callable(f):
+        raise OrrcValueError(f"f must be callable {call}; got {type(f).__name__}")
+    if not isinstance(name, str):
+        raise OrrcValueError(f"name must be a string; got {type(name).__name__}")
+    return as_int("n_states", n_states, minimum=1), as_int("n_inputs", n_inputs, minimum=1), name
+
+
 class NonlinearSystem(DropsBuffers, System):
     """x_{t+1} = f(x_t, u_t, w_t) with ``f`` written in CasADi operations.
 
@@ -127,13 +137,7 @@ class NonlinearSystem(DropsBuffers, System):
     """
 
     def __init__(self, f: Callable, n_states: int, n_inputs: int, name: str = "nonlinear system"):
-        if not callable(f):
-            raise OrrcValueError(f"f must be callable f(x, u, w); got {type(f).__name__}")
-        if not isinstance(name, str):
-            raise OrrcValueError(f"name must be a string; got {type(name).__name__}")
-        self.n = as_int("n_states", n_states, minimum=1)
-        self.m = as_int("n_inputs", n_inputs, minimum=1)
-        self.name = name
+        self.n, self.m, self.name = model_header(f, "f(x, u, w)", n_states, n_inputs, name)
         self._f = f
         x, u, w = ca.SX.sym("x", self.n), ca.SX.sym("u", self.m), ca.SX.sym("w", self.n)
         out = traced(f, (x, u, w), self.n, "f(x, u, w)")
