@@ -1,0 +1,145 @@
+"""Fresh virtual environments for the checks that must not lean on the project's ``.venv``.
+
+Coursework handed to a grader (an autograder zip) and a chapter downloaded as ``.ipynb`` must
+work from their own files, installed from the package registry. A test proves it by building a
+virtual environment from those files alone, with the machine's base Python (no
+``--system-site-packages``, nothing from ``.venv``), and running in it.
+
+Such an environment takes a minute or more to build, so it is built **once, keyed by what it is
+built from**, and shared: :func:`fresh_env` hashes the requirement lines, the bytes of every
+local file they name (a wheel, a requirements file) and the Python version, and keeps the
+environment in ``_build/fresh-envs/<name>-<key>``. Every test of one run (and of later runs,
+while nothing changes) that asks for the same requirements gets the same environment; a file
+lock makes concurrent requests (tests in background threads, two pytest processes) wait for one
+build instead of racing. A build that fails leaves nothing behind that a later call would take
+for a finished environment.
+
+:func:`orrc_wheel` builds the project's wheel once per package content, for environments (and
+autograder zips) that install ``orrc`` itself.
+"""
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+from contextlib import contextmanager
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+ENVS = Path(os.environ.get("ORRC_BOOK_OUT", ROOT)) / "_build" / "fresh-envs"
+DONE = ".orrc-fresh-env-complete"   # written last: an environment without it is incomplete
+
+
+def base_python() -> str:
+    """The machine's Python, not the project's ``.venv`` (``sys._base_executable`` inside a venv)."""
+    return getattr(sys, "_base_executable", None) or sys.executable
+
+
+@contextmanager
+def _locked(path: Path):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+def _local_files(lines: list[str], base: Path) -> list[Path]:
+    """The local files that requirement lines name: ``-r other.txt``, a path to a wheel or sdist,
+    ``name @ file:///...``."""
+    found = []
+    for line in lines:
+        words = line.replace("file://", " ").replace("@", " ").split()
+        for i, word in enumerate(words):
+            if word in ("-r", "--requirement", "-c", "--constraint") and i + 1 < len(words):
+                word = words[i + 1]
+            candidate = Path(word) if Path(word).is_absolute() else base / word
+            if candidate.is_file():
+                found.append(candidate)
+    return found
+
+
+def env_key(lines: list[str], base: Path = ROOT, python: str | None = None) -> str:
+    """What an environment is built from, hashed: the Python version, the requirement lines and
+    the content of each local file they name."""
+    python = python or base_python()
+    version = subprocess.run([python, "-c", "import sys; print(sys.version)"], capture_output=True,
+                             text=True, check=True).stdout.strip()
+    h = hashlib.sha256(version.encode() + b"\0")
+    for line in lines:
+        h.update(line.strip().encode() + b"\0")
+    for f in _local_files(lines, base):
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def fresh_env(name: str, requirements: list[str] | str | Path, *, base: Path | None = None,
+              python: str | None = None, timeout: float = 900) -> Path:
+    """The Python executable of a fresh virtual environment with ``requirements`` installed.
+
+    ``requirements``: a requirements file, or a list of lines as pip takes them on its command
+    line or in a requirements file (``numpy==2.4.6``, ``-r reqs.txt``, ``path/to/orrc.whl``).
+    Relative paths are taken relative to ``base`` (the requirements file's folder, else the
+    repository). The environment is built with the machine's base Python and pip from the package
+    registry only (pip's download cache may serve it), once per key (:func:`env_key`), and reused.
+    """
+    if isinstance(requirements, (str, Path)):
+        req_file = Path(requirements).resolve()
+        base = base or req_file.parent
+        lines = [f"-r {req_file}"]
+    else:
+        lines = [str(x) for x in requirements]
+    base = Path(base or ROOT).resolve()
+    python = python or base_python()
+    target = ENVS / f"{name}-{env_key(lines, base, python)}"
+    exe = target / "bin" / "python"
+    with _locked(ENVS / f".{target.name}.lock"):
+        if (target / DONE).is_file():
+            return exe
+        shutil.rmtree(target, ignore_errors=True)
+        subprocess.run([python, "-m", "venv", str(target)], check=True, timeout=timeout)
+        req = target / "requirements.txt"
+        req.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "PIP_REQUIRE_VIRTUALENV")}
+        run = subprocess.run([str(exe), "-m", "pip", "install", "--no-input", "--disable-pip-version-check",
+                              "--quiet", "-r", str(req)], cwd=base, env=env, capture_output=True, text=True,
+                             timeout=timeout)
+        if run.returncode != 0:
+            shutil.rmtree(target, ignore_errors=True)
+            raise RuntimeError(f"building the fresh environment {name!r} failed (pip exit {run.returncode}):\n"
+                               f"{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
+        (target / DONE).write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return exe
+
+
+def package_digest(root: Path = ROOT) -> str:
+    """SHA-256 of what goes into the project's wheel: ``pyproject.toml`` and ``orrc/**/*.py``."""
+    h = hashlib.sha256()
+    files = [root / "pyproject.toml", root / "README.md"] + sorted((root / "orrc").rglob("*.py"))
+    for f in files:
+        if "__pycache__" not in f.parts:
+            h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()[:16]
+
+
+def orrc_wheel(root: Path = ROOT) -> Path:
+    """The project's wheel (``orrc-<version>-py3-none-any.whl``), built once per package content
+    into ``_build/fresh-envs/wheels/<digest>/``."""
+    out = ENVS / "wheels" / package_digest(root)
+    with _locked(ENVS / ".wheel.lock"):
+        wheels = sorted(out.glob("orrc-*.whl"))
+        if wheels:
+            return wheels[0]
+        tmp = out.with_name(out.name + ".tmp")
+        shutil.rmtree(tmp, ignore_errors=True)
+        subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
+                        "--disable-pip-version-check", "--quiet", "-w", str(tmp), str(root)],
+                       check=True, capture_output=True, text=True)
+        shutil.rmtree(out, ignore_errors=True)
+        tmp.rename(out)
+        return sorted(out.glob("orrc-*.whl"))[0]
