@@ -106,6 +106,26 @@ def test_preview_rhc_on_the_edmd_model_keeps_van_der_pol_bounded():
     assert ctrl.max() < 0.2 < 1.0 < np.linalg.norm(open_loop.x[N + 50:], axis=1).max()   # the limit cycle is gone
 
 
+def test_the_control_phase_is_public_one_nlp_on_the_casadi_path_built_at_n_on_the_lq_path():
+    model = pendulum_model()
+    theta = np.array([0.4, 2.5])
+    cost = orrc.QuadraticCost(np.diag([10.0, 1.0]), [[0.1]])
+    etc = orrc.EstimateThenControl(model, cost, 10, 8, excitation=est.prbs(8, 1, seed=0), input_bounds=(-4, 4),
+                                   theta_true=theta)
+    planner = etc.control_phase                 # built before any estimate, with θ̂ = theta0 = 0
+    solver = planner.nlp.solver
+    assert isinstance(planner, orrc.PreviewRHC) and planner.solver == "nlp" and np.all(planner.theta == 0)
+    w = orrc.disturbances.uniform_box(40, 2, -0.01, 0.01, seed=3)
+    orrc.simulate(model.at(theta), etc, np.array([0.5, 0.0]), w, 20)
+    assert etc.control_phase is planner and planner.nlp.solver is solver
+    np.testing.assert_allclose(planner.theta, theta, atol=1e-9)   # the estimate, set as a parameter
+    lin = orrc.ParametricSystem.linear(1, 1)
+    etc_lq = orrc.EstimateThenControl(lin, orrc.QuadraticCost([[1.0]], [[0.1]]), 3, 2)
+    assert etc_lq.control_phase is None         # the exact LQ path is built from the estimate
+    orrc.simulate(orrc.LinearSystem([[0.5]], [[1.0]]), etc_lq, np.zeros(1), np.zeros((10, 1)), 6)
+    assert etc_lq.control_phase.solver == "lq" and etc_lq.control_phase.nlp is None
+
+
 def test_l1_cost_uses_the_exact_qp_which_agrees_with_an_independent_solve():
     system = orrc.LinearSystem([[0.5, 0.1], [0.0, 0.8]], [[1.0, 0.0], [0.2, 1.0]])
     cost = orrc.L1Cost([1.0, 2.0], 0.1 * np.eye(2))

@@ -165,6 +165,18 @@ class EstimateThenControl(Controller):
                                    theta=theta0)
         self.reset()
 
+    @property
+    def control_phase(self):
+        """The controller of the control phase (Algorithm 1 on the estimated model), or None before it exists.
+
+        A :class:`~orrc.PreviewRHC` on f(·; θ̂), or a :class:`~orrc.controllers.LiftedRHC` on the fitted
+        EDMD model. On the CasADi path (a ParametricSystem off the exact LQ/QP path) it is built in the
+        constructor with θ̂ = ``theta0`` and stays the same object: the estimate enters its NLP as a
+        parameter value (:meth:`~orrc.PreviewRHC.set_theta`), so the solver is not rebuilt. On the exact
+        LQ/QP path and with EDMD it is built at t = N from the estimate (None before).
+        """
+        return self._ctrl if self._ctrl is not None else self._rhc
+
     # -- the two phases ---------------------------------------------------------------------------------
     def reset(self) -> None:
         self._t = 0

@@ -190,6 +190,13 @@ class PreviewRHC(Controller):
                                     term_fn, solvers=_NLP_LADDERS[self.solver], solver_options=solver_options)
 
     @property
+    def nlp(self):
+        """The transcription this controller solves at every step, built once in the constructor: a
+        :class:`~orrc.solvers.nlp.ShootingNLP` (``solver`` "nlp", "sqp" or "ipopt"; its CasADi solver is
+        ``nlp.solver``) or an :class:`~orrc.solvers.qp.L1QP` ("qp"); None on the exact LQ path."""
+        return self._nlp
+
+    @property
     def fast_affine(self):
         """(K, feedforward) of the exact LQ path's fast path: u_t = −K x_t + feedforward(windows)[t], the
         feed-forward of every step's own preview window in one product (:mod:`orrc.controllers.base`);
