@@ -9,7 +9,8 @@ Singh, "Online Control with Adversarial Disturbances" (ICML 2019).
   disturbance sequence, the comparator of GPC's regret (Theorem 5.1 of the paper).
 
 The disturbances are never previewed: w_{t−1} is recovered from the observed states and the input
-actually applied, w_{t−1} = x_t − A x_{t−1} − B u_{t−1}, exact for a known linear system.
+actually applied, w_{t−1} = x_t − A x_{t−1} − B u_{t−1}, exact for a known linear system. Both
+controllers are strictly causal: u_t uses x_0..x_t (equivalently w_0..w_{t−1}), never w_t.
 """
 from __future__ import annotations
 

@@ -6,16 +6,25 @@ z_t = [Q^½x_t; R^½u_t], so Σ c_t = Σ ‖z_t‖². The H∞ controller at lev
 attenuation in the paper's convention (γ the squared gain). It is the minimiser's saddle-point
 policy of the soft-constrained game of :mod:`orrc.solvers.game` (Başar and Bernhard 1995).
 
+Information pattern. Without preview the controller is strictly causal: u_t = −K x_t uses the
+state x_t (so, for a known linear system, w_0..w_{t−1}) but not w_t, the disturbance about to
+act. Its optimal level is the best among strictly causal controllers. Full information (u_t may
+also use w_t) is preview k = 1 here, and its level can be far lower: on x⁺ = 2x + u + w with
+c = x² + u² the strictly causal level is 5 and the full-information level 1 (u = −2x − w).
+
 With preview k the controller also sees w_t..w_{t+k-1}. The game is then played on the state
 augmented with the preview buffer, ξ_t = [x_t; w_t; ...; w_{t+k-1}]:
 
     ξ_{t+1} = Ā ξ_t + B̄ u_t + Ē v_t,   v_t = w_{t+k} (the next, still unseen, disturbance),
 
 with Ā = [[A, I, 0..], [0, 0, I, ..], ..., [0 ... 0]], B̄ = [B; 0], Ē = [0; ...; I] and the
-cost weight diag(Q, 0). Its optimal level is the best attenuation achievable with k steps of
-preview (over every causal controller that sees k disturbances ahead: full information makes
-a static feedback on ξ optimal), and the controller is u_t = −K x_t − L vec(w_t..w_{t+k-1}),
-the same form as Algorithm 1's LQ law (:class:`~orrc.PreviewRHC`).
+cost weight diag(Q, 0). The only disturbance left, v_t, is not seen before it acts, so the
+preview controller is strictly causal state feedback on ξ; its optimal level is the best
+attenuation among controllers whose u_t uses x_0..x_t and w_0..w_{t+k-1} (the state ξ_t is
+measured, so a static feedback on ξ is optimal), and the controller is
+u_t = −K x_t − L vec(w_t..w_{t+k-1}), the same form as Algorithm 1's LQ law
+(:class:`~orrc.PreviewRHC`). The level falls with k towards the non-causal level (a controller
+that knows the whole sequence) and stops improving after a few steps.
 """
 from __future__ import annotations
 
@@ -60,6 +69,9 @@ def preview_buffer_system(A, B, Q, k: int):
 
 class HInfinity(Controller):
     """The H∞ state-feedback controller at level γ (the paper's convention: γ is the squared gain).
+
+    Strictly causal without preview (u_t = −K x_t does not use w_t); with ``preview`` k it also
+    uses w_t..w_{t+k-1} (k = 1 is the full-information pattern).
 
     Parameters
     ----------
