@@ -76,12 +76,18 @@ def test_the_estimator_gets_the_disturbances_the_controller_observed():
     np.testing.assert_array_equal(seen["W"], w[:6])
 
 
-def test_parametric_pendulum_estimate_enters_the_nlp_as_a_parameter_without_rebuilding_it():
+def pendulum_alg2():
+    """Algorithm 2 on the pendulum with (d/m, 1/m) unknown: M = 10, N = 8, |u| <= 4 (the NLP path)."""
     model = pendulum_model()
     theta = np.array([0.4, 2.5])
     cost = orrc.QuadraticCost(np.diag([10.0, 1.0]), [[0.1]])
     etc = orrc.EstimateThenControl(model, cost, 10, 8, excitation=est.prbs(8, 1, seed=0), input_bounds=(-4, 4),
                                    theta_true=theta)
+    return model, theta, cost, etc
+
+
+def test_parametric_pendulum_estimate_enters_the_nlp_as_a_parameter_without_rebuilding_it():
+    model, theta, cost, etc = pendulum_alg2()
     solvers_before = dict(etc._rhc._nlp._nlpsol)  # the CasADi solvers (SQP, IPOPT), built once
     w = orrc.disturbances.uniform_box(60, 2, -0.01, 0.01, seed=3)
     traj = orrc.simulate(model.at(theta), etc, np.array([0.5, 0.0]), w, 40)
@@ -107,11 +113,7 @@ def test_preview_rhc_on_the_edmd_model_keeps_van_der_pol_bounded():
 
 
 def test_the_control_phase_is_public_one_nlp_on_the_casadi_path_built_at_n_on_the_lq_path():
-    model = pendulum_model()
-    theta = np.array([0.4, 2.5])
-    cost = orrc.QuadraticCost(np.diag([10.0, 1.0]), [[0.1]])
-    etc = orrc.EstimateThenControl(model, cost, 10, 8, excitation=est.prbs(8, 1, seed=0), input_bounds=(-4, 4),
-                                   theta_true=theta)
+    model, theta, cost, etc = pendulum_alg2()
     planner = etc.control_phase                 # built before any estimate, with θ̂ = theta0 = 0
     solver = planner.nlp.solver
     assert isinstance(planner, orrc.PreviewRHC) and planner.solver == "nlp" and np.all(planner.theta == 0)
