@@ -40,6 +40,9 @@ def test_the_ratio_is_lemma6s_inequality(case6):
     gb, ah = info["pairs"][3]
     Gg = theory.Gamma_WV_gamma(6, 1.0, ah, gb)
     assert info["ratios"][3, 0] == pytest.approx(inc0 / (Gg * 0.09), rel=1e-9)
+    # the test has teeth: with a pair outside the class (γ̄_W far below V(0)/max‖w‖²) it fails at x = 0
+    small = theory.Gamma_WV_gamma(6, 1.0, ah, 1e-3 * V0.value / 0.09)
+    assert inc0 / (small * 0.09) > 1
 
 
 def test_the_tight_pairs_are_admissible_on_the_grid_and_tight(case6):
