@@ -89,3 +89,12 @@ def test_the_search_is_seeded():
     assert [x.ratio for x in a.cases] == [x.ratio for x in b.cases]
     assert [x.ratio for x in a.cases] != [x.ratio for x in c.cases]
     assert not math.isnan(a.ratio)
+
+
+def test_the_search_gives_the_same_result_on_worker_processes():
+    # each problem's seed is fixed by its place in the grid, not by the worker that runs it
+    kw = dict(n=1, n_problems=2, M=(2, 3), n_x=5, n_pairs=10, seed=7)
+    serial = certify.lemma6_search(backend="serial", **kw)
+    procs = certify.lemma6_search(backend="processes", **kw)
+    assert [c.ratio for c in serial.cases] == [c.ratio for c in procs.cases]
+    assert [c.M for c in serial.cases] == [c.M for c in procs.cases]
