@@ -29,12 +29,18 @@ One module per kind of result:
 * :mod:`orrc.certify.minmax` -- :func:`minmax_constants`, the constants ᾱ_W, γ̄_W of Appendix D
   (no disturbance preview): certified for a linear-quadratic problem without input bounds (a
   Pareto curve from the nominal plan plus the min-max plan from x = 0), sampled estimates otherwise.
+* :mod:`orrc.certify.lemma6` -- :func:`lemma6_search`, a search for counterexamples to Lemma 6 on
+  small LQ problems with a box W (n = 1, 2): V_{W,M} exact (vertex method), the increment's worst
+  case at a vertex of W, states on a grid with local refinement, the tight and certified pairs
+  (ᾱ_W, γ̄_W); :func:`lemma6_case` for one problem, :func:`lemma6_recheck` its worst point
+  recomputed with cvxpy.
 
 SciPy is imported inside the functions that use it, so that ``import orrc`` does not load it.
 """
 from .attenuation import Attenuation, worst_case_attenuation, worst_case_attenuation_limit
 from .constants import Constants, alpha_hi_floor, lq_constants, smallest_certified_M
 from .minmax import MinMaxConstants, minmax_constants
+from .lemma6 import Lemma6Case, Lemma6Search, lemma6_case, lemma6_problem, lemma6_recheck, lemma6_search
 from .regret import Regret, worst_case_regret
 from .sampled import sampled_constants
 from .lipschitz import Lipschitz, lq_lipschitz, lq_value_matrices, sampled_lipschitz
@@ -42,4 +48,5 @@ from .lipschitz import Lipschitz, lq_lipschitz, lq_value_matrices, sampled_lipsc
 __all__ = ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
            "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit", "Regret",
            "worst_case_regret", "Lipschitz", "lq_lipschitz", "lq_value_matrices", "sampled_lipschitz",
-           "MinMaxConstants", "minmax_constants"]
+           "MinMaxConstants", "minmax_constants", "Lemma6Case", "Lemma6Search", "lemma6_case", "lemma6_problem",
+           "lemma6_recheck", "lemma6_search"]

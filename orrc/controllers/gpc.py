@@ -130,16 +130,25 @@ class GPC(DisturbanceAction):
 
     Parameters and their source
     ---------------------------
-    H : the memory (default 10). The paper's Theorem 5.1 takes H = γ⁻¹ log(T κ²) for a
-        (κ, γ)-strongly stable K.
-    lr : the step size η. With ``decay=True`` (default) the step at t is lr/√(t+1), the anytime
-        schedule of online gradient descent (Zinkevich 2003), since an online controller does not
-        know T; ``decay=False`` keeps η = lr constant, as in the paper (which tunes η ∝ 1/√T).
-        The default lr = 0.05 is this package's choice for disturbances of size about 1.
-    K : the stabilising gain (default: the LQR gain, ``control.dlqr``).
+    H : the memory (default 10: this package's choice, not the paper's). The paper's Theorem 5.1
+        takes H = γ⁻¹ log(T κ²) for a (κ, γ)-strongly stable K, which grows with T.
+    lr : the step size η (default 0.05: this package's choice for disturbances of size about 1; the
+        paper tunes a constant η ∝ 1/√T to the horizon). With ``decay=True`` (default) the step at
+        t is lr/√(t+1), the anytime schedule of online gradient descent (Zinkevich 2003).
+        **A deliberate deviation from Algorithm 1**, which keeps η constant: an online controller
+        that runs for an unknown time cannot tune η to T, and a constant step not tuned to T keeps
+        chasing the latest disturbances, so its regret against the best fixed policy grows
+        linearly in T (the comparison chapter fits it over T). ``decay=False`` restores the
+        constant step of the paper.
+    K : the stabilising gain (default: the LQR gain, ``control.dlqr``; the paper allows any
+        (κ, γ)-strongly stable K).
     radius : the projection set 𝓜 = {M : ‖M_i‖₂ <= radius·(1 − γ)^{i−1}} (spectral norms). Default
-        radius = κ_B κ³ with κ_B = max(1, ‖B‖₂) and (κ, γ) from :func:`strong_stability`: the set of
-        the paper (Section 4, with M^{[i−1]} for our M_i).
+        radius = κ_B κ³ with κ_B = max(1, ‖B‖₂) and (κ, γ) from :func:`strong_stability` (a
+        certificate, not the tightest pair). Checked against the source: Algorithm 1 of Agarwal
+        et al. (2019) defines 𝓜 by ‖M^{[i−1]}‖ <= κ³κ_B(1 − γ)^i, with M^{[i−1]} our M_i, i.e. one
+        factor (1 − γ) tighter than this default, whose first block is bounded by the radius
+        itself. ``radius=κ_B κ³ (1 − γ)`` (``gpc.radius * (1 - gpc.gamma_ss)``) gives the published
+        set exactly.
 
     ``record()`` gives ``M`` (T, H, m, n), the policy played at each step, ``w`` (T, n), the
     recovered disturbances (w_{t−1} at row t; row 0 is zero) and ``lr`` (T,), the steps taken.
