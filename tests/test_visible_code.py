@@ -8,7 +8,8 @@ tagged ``size-switch`` (with ``remove-cell``) rebinds a teaching value for the t
 after the visible cell that sets it: ``T = orrc.config.size(T, 40)``.
 
 * Static: no visible cell uses a name that only hidden cells bind (and no earlier visible cell
-  binds); a ``size-switch`` cell rebinds only names that a visible cell bound before it. Names
+  binds), or a name that a hidden cell other than a size switch rebound after the visible code
+  bound it; a ``size-switch`` cell rebinds only names that a visible cell bound before it. Names
   are found with :mod:`symtable` (assignments, imports, definitions, ``for`` and ``with``
   targets, walrus; names used inside functions, lambdas and comprehensions count).
 * Dynamic (``slow``): the visible cells and the ``size-switch`` cells of each page, extracted
@@ -84,6 +85,7 @@ def hidden_dependencies(page: str, root: Path = ROOT) -> list[str]:
     problems: list[str] = []
     visible: set[str] = set()
     hidden: set[str] = set()
+    rebound: dict[str, int] = {}     # visible names a later hidden cell rebound: name -> cell
     for cell in code_cells(page, root):
         bound, used = bound_and_used(cell["source"])
         first = cell["source"].strip().splitlines()[0][:60] if cell["source"].strip() else ""
@@ -97,11 +99,19 @@ def hidden_dependencies(page: str, root: Path = ROOT) -> list[str]:
                                 "visible cell binds (it may only rebind a teaching value)")
         elif is_hidden(cell):
             hidden |= bound
+            rebound.update({name: cell["n"] for name in bound & visible})
         else:
             only_hidden = sorted((used - visible) & hidden)
             if only_hidden:
                 problems.append(f"{where}: uses {only_hidden}, bound only in hidden cells")
+            changed = sorted(used & set(rebound))
+            if changed:
+                problems.append(f"{where}: uses {changed}, rebound out of sight by hidden code "
+                                f"cell(s) {sorted({rebound[n] for n in changed})} (tag a size "
+                                "switch `size-switch`)")
             visible |= bound
+            for name in bound:
+                rebound.pop(name, None)
     return problems
 
 
@@ -125,7 +135,8 @@ def test_the_static_check_finds_names_in_every_binding_form():
 
 def test_the_static_check_reports_a_name_set_out_of_sight(tmp_path):
     """A visible cell reading a name only a hidden cell set is reported, naming the cell and the
-    name; a size-switch cell that binds a new name is reported; a proper switch is not."""
+    name; so is one reading a name a hidden cell (not a size switch) rebound; a size-switch
+    cell that binds a new name is reported; a proper switch is not."""
     page = tmp_path / "book" / "p.md"
     page.parent.mkdir()
     cell = "```{{code-cell}} ipython3\n{tags}\n{src}\n```\n\n"
@@ -136,12 +147,15 @@ def test_the_static_check_reports_a_name_set_out_of_sight(tmp_path):
         + cell.format(tags=":tags: [remove-cell, size-switch]\n", src="T = min(T, 40)")
         + cell.format(tags=":tags: [remove-cell]\n", src="N = 10")
         + cell.format(tags="", src="print(T * N)")
-        + cell.format(tags=":tags: [remove-cell, size-switch]\n", src="S = 3"),
+        + cell.format(tags=":tags: [remove-cell, size-switch]\n", src="S = 3")
+        + cell.format(tags=":tags: [remove-cell]\n", src="T = 10")
+        + cell.format(tags="", src="print(T)"),
         encoding="utf-8")
     problems = hidden_dependencies("book/p", tmp_path)
-    assert len(problems) == 2, problems
+    assert len(problems) == 3, problems
     assert "code cell 4" in problems[0] and "['N']" in problems[0], problems[0]
     assert "code cell 5" in problems[1] and "['S']" in problems[1], problems[1]
+    assert "code cell 7" in problems[2] and "['T']" in problems[2], problems[2]
 
 
 # ----------------------------------------------------------------------------- dynamic
