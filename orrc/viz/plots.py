@@ -406,12 +406,17 @@ def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
     axes[0, 0].set_ylabel("share of the steps")
     legend_below(axes[0, 0], ncol=1)
     if solve_times:
+        every = []
         for i, (label, st) in enumerate(solve_times.items()):
             ms = np.sort(1e3 * as_array(f"solve_times[{label!r}]", st, ndim=1))
+            every.append(ms)
             axes[0, 1].step(ms, np.arange(1, len(ms) + 1) / len(ms), where="post",
                             color=f"C{i}", label=label, linewidth=1.2)
             axes[0, 1].axvline(np.median(ms), color=f"C{i}", linestyle="--", linewidth=1.0)
-        axes[0, 1].set_xscale("log")
+        every = np.concatenate(every)
+        if every.size and every.min() > 0:   # a log axis: the times span decades
+            axes[0, 1].set_xlim(every.min() / 1.5, every.max() * 1.5)
+            axes[0, 1].set_xscale("log")
         axes[0, 1].set_xlabel("solve time per step [ms]")
         axes[0, 1].set_ylabel("share of the steps at most")
     return fig
