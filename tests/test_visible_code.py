@@ -15,6 +15,7 @@ after the visible cell that sets it: ``T = orrc.config.size(T, 40)``.
 * Dynamic (``slow``): the visible cells and the ``size-switch`` cells of each page, extracted
   in page order, execute with nbclient at the test size (``ORRC_QUICK=1``, ``ORRC_BOOK_BUILD=1``
   so explorers draw static frames) without an error. The pages run two at a time.
+* Code style: code lines of at most 88 characters; every ``assert`` states its claim.
 """
 from __future__ import annotations
 
@@ -203,3 +204,26 @@ def reader_runs():
 def test_the_visible_code_of_a_page_runs_as_a_reader_sees_it(reader_runs, page):
     seconds, error = reader_runs[page]
     assert error is None, f"{page}: the visible code fails when run on its own:\n{error}"
+
+
+# ----------------------------------------------------------------------------- code style
+
+
+@pytest.mark.parametrize("page", PAGES)
+def test_code_lines_fit_and_every_check_states_its_claim(page):
+    """Every code line of a page is at most 88 characters (it fits the page's code column);
+    every ``assert`` carries a message that states the claim it checks (a string, not a
+    tuple of values), so a failure tells the reader which statement of the text failed."""
+    import ast
+
+    long_lines, silent = [], []
+    for cell in code_cells(page):
+        long_lines += [f"code cell {cell['n']}: {len(line)} characters: {line.strip()[:50]}"
+                       for line in cell["source"].splitlines() if len(line) > 88]
+        for node in ast.walk(ast.parse(python_of(cell["source"]))):
+            if isinstance(node, ast.Assert) and not (
+                    isinstance(node.msg, ast.JoinedStr)
+                    or (isinstance(node.msg, ast.Constant) and isinstance(node.msg.value, str))):
+                silent.append(f"code cell {cell['n']}: {ast.unparse(node)[:70]}")
+    assert not long_lines, f"{page}: lines over 88 characters:\n" + "\n".join(long_lines)
+    assert not silent, f"{page}: asserts without a message stating the claim:\n" + "\n".join(silent)
