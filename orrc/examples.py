@@ -8,6 +8,7 @@ raise :class:`~orrc.OrrcValueError` naming the parameter.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import casadi as ca
@@ -32,15 +33,34 @@ class Example:
         return f"Example({self.name!r}: {self.description})"
 
 
-def scalar_unstable(a: float = 2.0, b: float = 1.0, q: float = 1.0, r: float = 1.0) -> Example:
-    """x_{t+1} = a x_t + b u_t + w_t with |a| > 1 (open-loop unstable), c = q x² + r u²."""
-    a, b = as_float("a", a), as_float("b", b)
-    if b == 0.0:
-        raise OrrcValueError("b must be non-zero (with b = 0 the input has no effect); got 0.0")
+def scalar_unstable(A: float = 2.0, B: float = 1.0, q: float = 1.0, r: float = 1.0, *,
+                    a: float | None = None, b: float | None = None) -> Example:
+    """The scalar system x_{t+1} = A x_t + B u_t + w_t, open-loop unstable when |A| > 1, with the
+    stage cost c(x, u) = q x² + r u² (the paper's setting, Eqs. (1)-(2), with n = m = 1).
+
+    ``A`` and ``B`` are the coefficients of the linear system x+ = A x + B u + w, as for any
+    linear system (``LinearSystem(A, B)``); in the book ``a`` is only the paper's decay rate
+    and ``b`` only Lemma 2's constant. The old keywords ``a`` and ``b`` for the coefficients
+    are still accepted, with a :class:`DeprecationWarning`.
+    """
+    for old, new_name, given, default in (("a", "A", A, 2.0), ("b", "B", B, 1.0)):
+        value = a if old == "a" else b
+        if value is None:
+            continue
+        if given != default:
+            raise OrrcValueError(f"scalar_unstable: give the coefficient as {new_name} only; got "
+                                 f"{new_name}={given!r} and the old keyword {old}={value!r}")
+        warnings.warn(f"scalar_unstable({old}=...) is deprecated: the coefficient of x+ = A x + "
+                      f"B u + w is now the keyword {new_name} ({old} is the decay rate or "
+                      f"Lemma 2's constant in the book)", DeprecationWarning, stacklevel=2)
+        A, B = (value, B) if old == "a" else (A, value)
+    A, B = as_float("A", A), as_float("B", B)
+    if B == 0.0:
+        raise OrrcValueError("B must be non-zero (with B = 0 the input has no effect); got 0.0")
     q, r = as_float("q", q, minimum=0.0), as_float("r", r, minimum=0.0, strict_min=True)
-    return Example("scalar_unstable", LinearSystem([[a]], [[b]], name=f"x+ = {a:g}x + {b:g}u + w"),
+    return Example("scalar_unstable", LinearSystem([[A]], [[B]], name=f"x+ = {A:g}x + {B:g}u + w"),
                    QuadraticCost([[q]], [[r]]), np.array([1.0]), 5, None,
-                   f"scalar system x+ = {a:g} x + {b:g} u + w, open-loop unstable")
+                   f"scalar system x+ = {A:g} x + {B:g} u + w, open-loop unstable")
 
 
 def double_integrator(dt: float = 0.1, q_vel: float = 0.1, r: float = 0.1) -> Example:

@@ -215,9 +215,9 @@ CASES = [
     case("Box-sample-seed", lambda: orrc.Box(-1.0, 1.0, n=2).sample(3, seed=object()), "seed"),
 
     # -- orrc.examples -------------------------------------------------------------------------------
-    case("scalar_unstable-b-zero", lambda: exs.scalar_unstable(b=0.0), "b", "non-zero"),
+    case("scalar_unstable-b-zero", lambda: exs.scalar_unstable(B=0.0), "B", "non-zero"),
     case("scalar_unstable-r-negative", lambda: exs.scalar_unstable(r=-1.0), "r"),
-    case("scalar_unstable-a-nan", lambda: exs.scalar_unstable(a=np.nan), "a", "finite"),
+    case("scalar_unstable-a-nan", lambda: exs.scalar_unstable(A=np.nan), "A", "finite"),
     case("double_integrator-dt-negative", lambda: exs.double_integrator(dt=-0.1), "dt"),
     case("double_integrator-r-zero", lambda: exs.double_integrator(r=0.0), "r"),
     case("double_integrator-q_vel-negative", lambda: exs.double_integrator(q_vel=-1.0), "q_vel"),
@@ -375,7 +375,7 @@ CASES = [
     case("lq_constants-grid-huge", lambda: certify.lq_constants(di().system, di().cost, 5, grid=10 ** 9),
          "grid=1000000000", "limit"),
     case("lq_constants-M-huge", lambda: certify.lq_constants(di().system, di().cost, 10 ** 5), "M=100000", "limit"),
-    case("lq_constants-overflow", lambda: certify.lq_constants(exs.scalar_unstable(a=1e200).system,
+    case("lq_constants-overflow", lambda: certify.lq_constants(exs.scalar_unstable(A=1e200).system,
                                                                exs.scalar_unstable().cost, 5), "overflows"),
     case("alpha_hi_floor-1e7", lambda: certify.alpha_hi_floor(di().system, di().cost, [10 ** 7]), "max(Ms)=10000000",
          "limit"),

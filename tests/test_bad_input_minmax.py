@@ -11,7 +11,7 @@ from orrc import certify, checks, theory
 from orrc.solvers.minmax import check_set
 from bad_input import assert_bad_input, case, params
 
-EX = orrc.examples.scalar_unstable(a=1.2)
+EX = orrc.examples.scalar_unstable(A=1.2)
 SYS, COST = EX.system, EX.cost
 PEND = orrc.examples.inverted_pendulum()
 W1 = orrc.Box(-0.3, 0.3)

@@ -16,7 +16,7 @@ from conftest import random_lq_problem
 
 @pytest.fixture(scope="module")
 def scalar():
-    ex = orrc.examples.scalar_unstable(a=1.2)
+    ex = orrc.examples.scalar_unstable(A=1.2)
     return ex.system, ex.cost, orrc.Box(-0.3, 0.3)
 
 

@@ -15,7 +15,7 @@ from orrc import certify, checks, theory
 
 @pytest.fixture(scope="module")
 def setting():
-    ex = orrc.examples.scalar_unstable(a=1.2)
+    ex = orrc.examples.scalar_unstable(A=1.2)
     W = orrc.Box(-0.3, 0.3)
     M = 6
     c = certify.minmax_constants(ex.system, ex.cost, M, W)

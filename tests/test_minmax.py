@@ -249,7 +249,7 @@ def test_preview_w_is_zero_and_the_closed_loop_is_causal(pendulum):
 
 
 def test_closed_loop_records_bounds_and_worst_cases_per_step():
-    ex = orrc.examples.scalar_unstable(a=1.2)
+    ex = orrc.examples.scalar_unstable(A=1.2)
     W = orrc.Box(-0.3, 0.3)
     T, M = 15, 6
     rhc = orrc.MinMaxRHC(ex.system, ex.cost, M, W)
@@ -269,7 +269,7 @@ def test_closed_loop_records_bounds_and_worst_cases_per_step():
 
 
 def test_time_varying_costs_reach_both_methods_alike():
-    ex = orrc.examples.scalar_unstable(a=1.2)
+    ex = orrc.examples.scalar_unstable(A=1.2)
     W = orrc.Box(-0.3, 0.3)
     T, M = 10, 5
     costs = ex.cost.scaled(1.0 + 0.5 * np.sin(np.arange(T + M)))

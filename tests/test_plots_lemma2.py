@@ -15,7 +15,7 @@ import paper
 @pytest.fixture(scope="module")
 def run():
     """Algorithm 1 on x+ = 1.2x + u + w (certified from M = 5) with certified constants."""
-    ex = orrc.examples.scalar_unstable(a=1.2)
+    ex = orrc.examples.scalar_unstable(A=1.2)
     M, H, T = 6, 8, 30
     c = certify.lq_constants(ex.system, ex.cost, M)
     w = orrc.disturbances.uniform_ball(T + M, 1, radius=0.5, seed=1)

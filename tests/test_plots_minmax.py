@@ -11,7 +11,7 @@ from orrc.viz import explore, minmax_plots
 
 @pytest.fixture(scope="module")
 def scalar():
-    ex = orrc.examples.scalar_unstable(a=1.2)
+    ex = orrc.examples.scalar_unstable(A=1.2)
     W, M, T = orrc.Box(-0.3, 0.3), 6, 20
     c = certify.minmax_constants(ex.system, ex.cost, M, W, n_samples=8)
     rhc = orrc.MinMaxRHC(ex.system, ex.cost, M, W)

@@ -16,7 +16,7 @@ import paper
 
 @pytest.fixture(scope="module")
 def scalar():
-    ex = orrc.examples.scalar_unstable(a=1.2)
+    ex = orrc.examples.scalar_unstable(A=1.2)
     M = 7
     c = certify.lq_constants(ex.system, ex.cost, M, grid=60)
     assert c.admissible

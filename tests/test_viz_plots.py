@@ -107,3 +107,22 @@ def test_negative_gamma_is_rejected(scalar_runs):
     _, trajs = scalar_runs
     with pytest.raises(ValueError, match="gamma"):
         plots.running_regret({"LQR": trajs["LQR"]}, [-1.0])
+
+
+def test_solver_effort_shows_the_distributions_on_integer_and_median_marked_axes():
+    """The warm-start figure: the share of steps per iteration count (bars that sum to one per
+    label, at integer positions, integer ticks) and the distribution of the times with each
+    median marked, so that one slow step cannot make a run look slower than it is."""
+    iters = {"warm": [2, 2, 3, 2], "cold": [3, 3, 3, 4]}
+    times = {"warm": [1e-4, 1e-4, 1e-4, 2e-4, 0.04], "cold": [2e-4, 2e-4, 2e-4, 3e-4]}
+    fig = plots.solver_effort(iters, times)
+    ax_it, ax_t = fig.axes[:2]
+    heights = {}
+    for bar in ax_it.patches:
+        heights.setdefault(bar.get_facecolor(), []).append(bar.get_height())
+    assert sorted(round(sum(h), 12) for h in heights.values()) == [1.0, 1.0], "shares sum to one"
+    ticks = [t for t in ax_it.get_xticks() if ax_it.get_xlim()[0] <= t <= ax_it.get_xlim()[1]]
+    assert ticks and all(float(t).is_integer() for t in ticks), f"integer ticks: {ticks}"
+    medians = sorted(line.get_xdata()[0] for line in ax_t.lines if line.get_linestyle() == "--")
+    assert np.allclose(medians, [0.1, 0.2]), "the medians in ms: 0.1 warm (the outlier ignored), 0.2 cold"
+    assert ax_t.get_xscale() == "log", "times on a log axis"

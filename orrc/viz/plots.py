@@ -384,23 +384,41 @@ def rhc_frame(traj, reference, gamma: float, state_labels=("$x_t[0]$",), input_b
 
 
 def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
-    """Solver iterations per step (``iterations``: label -> (T,) array), and, when
-    given, the solve time per step in milliseconds."""
+    """How the solver's effort is distributed over the steps of a run, per label (e.g. warm
+    and cold starts): ``iterations`` (label -> (T,) integer counts) as the share of steps
+    that took 1, 2, 3, ... iterations (bars side by side, integer axis); when given,
+    ``solve_times`` (label -> (T,) seconds) as the empirical distribution of the time per
+    step in milliseconds (log axis), its median marked by a dashed line. Distributions
+    rather than means: one slow step (a busy machine) moves a mean, not a median."""
+    from matplotlib.ticker import MaxNLocator
+
     iterations = _nonempty_dict("iterations", iterations, "per-step iteration counts")
     ncols = 2 if solve_times else 1
     fig, axes = _figure(1, ncols, width=WIDTH if ncols > 1 else 5.0, height=3.0)
-    for i, (label, it) in enumerate(iterations.items()):
-        it = as_array(f"iterations[{label!r}]", it, ndim=1)
-        axes[0, 0].plot(np.arange(len(it)), it, color=f"C{i}", label=label, linewidth=1.2)
-    axes[0, 0].set_xlabel("$t$")
-    axes[0, 0].set_ylabel("solver iterations")
-    axes[0, 0].legend(fontsize=FONT)
+    counts = {label: as_array(f"iterations[{label!r}]", it, ndim=1) for label, it in iterations.items()}
+    width = 0.8 / len(counts)
+    for i, (label, it) in enumerate(counts.items()):
+        values, n = np.unique(it.astype(int), return_counts=True)
+        axes[0, 0].bar(values + (i - (len(counts) - 1) / 2) * width, n / len(it), width=width,
+                       color=f"C{i}", label=label)
+    axes[0, 0].xaxis.set_major_locator(MaxNLocator(integer=True))
+    axes[0, 0].set_xlabel("solver iterations at a step")
+    axes[0, 0].set_ylabel("share of the steps")
+    legend_below(axes[0, 0], ncol=1)
     if solve_times:
+        every = []
         for i, (label, st) in enumerate(solve_times.items()):
-            st = as_array(f"solve_times[{label!r}]", st, ndim=1)
-            axes[0, 1].plot(np.arange(len(st)), 1e3 * st, color=f"C{i}", label=label, linewidth=1.2)
-        axes[0, 1].set_xlabel("$t$")
-        axes[0, 1].set_ylabel("solve time per step [ms]")
+            ms = np.sort(1e3 * as_array(f"solve_times[{label!r}]", st, ndim=1))
+            every.append(ms)
+            axes[0, 1].step(ms, np.arange(1, len(ms) + 1) / len(ms), where="post",
+                            color=f"C{i}", label=label, linewidth=1.2)
+            axes[0, 1].axvline(np.median(ms), color=f"C{i}", linestyle="--", linewidth=1.0)
+        every = np.concatenate(every)
+        if every.size and every.min() > 0:   # a log axis: the times span decades
+            axes[0, 1].set_xlim(every.min() / 1.5, every.max() * 1.5)
+            axes[0, 1].set_xscale("log")
+        axes[0, 1].set_xlabel("solve time per step [ms]")
+        axes[0, 1].set_ylabel("share of the steps at most")
     return fig
 
 
