@@ -39,6 +39,14 @@ class Buffered:
         self._evaluate()
         return self.buffer.ret()
 
+    def evaluate(self, *args) -> None:
+        """As calling it, without reading the return code (for functions that cannot fail: an SX
+        function of the model, the rollout, the acceptance checks)."""
+        for a, v in zip(self.args, args):
+            if v is not None:
+                a[:] = v
+        self._evaluate()
+
     def stats(self) -> dict:
         """The statistics of the last evaluation (``Function.stats`` of the buffer's memory)."""
         return self.buffer.stats()

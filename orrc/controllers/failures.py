@@ -59,7 +59,10 @@ def max_failures_arg(max_failures) -> int | None:
 
 def _shift(rows: np.ndarray, k: int) -> np.ndarray:
     """rows[k:] followed by k copies of the last row (same length)."""
-    return np.concatenate((rows[k:], np.broadcast_to(rows[-1], (k,) + rows.shape[1:])))
+    out = np.empty_like(rows)
+    out[:len(rows) - k] = rows[k:]
+    out[len(rows) - k:] = rows[-1]
+    return out
 
 
 class FailureLadder:
