@@ -86,8 +86,10 @@ class BareCasadiLoop:
         self.fbuf.set_res(0, memoryview(self.fout))
         self.p[n + M * n:] = np.broadcast_to(rhc.cost.default_params, (M, rhc.cost.n_params)).reshape(-1)
 
-    def __call__(self, x0, w, T: int):
-        """The closed loop of T steps: (X (T+1, n), U (T, m))."""
+    def __call__(self, x0, w, T: int, read_status: bool = False):
+        """The closed loop of T steps: (X (T+1, n), U (T, m)). ``read_status``: also read each solve's
+        status and iteration count (``FunctionBuffer.stats()``), the least a loop that knows whether a
+        step was solved must do (the bare floor does not)."""
         M, n, m, z, z0, p = self.M, self.n, self.m, self.z, self.z0, self.p
         X, U = np.empty((T + 1, n)), np.empty((T, m))
         X[0] = x0
@@ -97,6 +99,10 @@ class BareCasadiLoop:
             p[:n] = x
             p[n:n + M * n] = w[t:t + M].reshape(-1)
             self.evaluate()
+            if read_status:
+                stats = self.buf.stats()
+                if not stats["success"]:
+                    raise CheckFailed(f"the bare loop's solve failed at t={t}: {stats['return_status']}")
             U[t] = z[:m]
             # the guess of the next step: the solution shifted by one step
             z0[:(M - 1) * m], z0[(M - 1) * m:M * m] = z[m:M * m], z[(M - 1) * m:M * m]
@@ -169,12 +175,14 @@ def run(T: int = 200, M: int = 20, reps: int = 7, reps_control: int = 3, peers=(
     x0, w = np.array(prob["x0"]), np.array(prob["w"])
     rhc = orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds)
     bare = BareCasadiLoop(rhc)
-    times = {"orrc": [], "bare": []}
+    times = {"orrc": [], "bare": [], "status": []}
     for _ in range(reps):  # interleaved: a load change hits both alike
         traj, c, t = cpu_and_wall(orrc.simulate, ex.system, rhc, x0, w, T)
         times["orrc"].append((c, t))
         (Xb, Ub), c, t = cpu_and_wall(bare, x0, w, T)
         times["bare"].append((c, t))
+        _, c, t = cpu_and_wall(bare, x0, w, T, read_status=True)
+        times["status"].append((c, t))
     if traj.n_failures or set(traj.solver) != {"sqp"}:
         raise CheckFailed(f"orrc's closed loop had failed steps or steps not solved by SQP: {traj.solver_counts}")
     X_ref, J_ref = closed_loop_cost(x0, traj.u, w[:T])
@@ -193,6 +201,11 @@ def run(T: int = 200, M: int = 20, reps: int = 7, reps_control: int = 3, peers=(
                 f"BLAS threads: {threads}; J = {J_ref:.8f}, bare rel. gap {gap_b:+.1e}, states {dx_b:.0e}",
                 dict(t_orrc=o_cpu, t_orrc_wall=o_wall, t_bare=med["bare"][0], t_bare_wall=med["bare"][1],
                      ratio=o_cpu / med["bare"][0], J=J_ref))]
+    s_cpu, s_wall = med["status"]
+    rows.append(Row(bench, "orrc.simulate vs bare loop + each solve's status read", f"{fmt_time(o_cpu)} ({fmt_time(o_wall)})",
+                    f"{fmt_time(s_cpu)} ({fmt_time(s_wall)})", f"{o_cpu / s_cpu:.2f}× (wall {o_wall / s_wall:.2f}×)",
+                    "—", None, "FunctionBuffer.stats() per step: success, status, iterations (orrc records them)",
+                    dict(t_status=s_cpu, t_status_wall=s_wall, ratio=o_cpu / s_cpu)))
     for name in peers:
         report, reason = run_peer(name, prob, reps)
         label = {"dompc": "do-mpc", "acados": "acados"}[name]
