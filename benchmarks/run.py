@@ -16,12 +16,13 @@ import argparse
 import sys
 import time
 
-from . import closed_loop, comparison, lq_path, minmax, peers, pendulum, widgets
+from . import closed_loop, comparison, lq_path, minmax, peers, pendulum, regret, widgets
 from .common import CheckFailed, blas_threads, machine, markdown_table, one_thread
 
-FULL = {"peers": {}, "pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}, "minmax": {}, "widgets": {}}  # the defaults of each module's run()
+FULL = {"peers": {}, "regret": {}, "pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}, "minmax": {}, "widgets": {}}  # the defaults of each module's run()
 QUICK = {
     "peers": dict(T=10, M=5, reps=1, reps_control=1, peers=()),
+    "regret": dict(sizes=((8, 2, 1, 5.0),), sdp_size=(5, 2, 1)),
     "pendulum": dict(M=5, thetas=(0.5,), reps_orrc=2, reps_peer=1),
     "closed_loop": dict(T=12, reps=1, reps_ipopt=1),
     "lq": dict(T=40, M=5, reps=2),
@@ -29,7 +30,7 @@ QUICK = {
     "minmax": dict(Ms=(4, 5), reps=1, M_pendulum=5, T=4),
     "widgets": dict(demo=True),
 }
-MODULES = {"peers": peers, "pendulum": pendulum, "closed_loop": closed_loop, "lq": lq_path, "comparison": comparison,
+MODULES = {"peers": peers, "regret": regret, "pendulum": pendulum, "closed_loop": closed_loop, "lq": lq_path, "comparison": comparison,
            "minmax": minmax, "widgets": widgets}
 
 
