@@ -60,17 +60,25 @@ def cpu_and_wall(fn, *args, **kwargs):
             gc.enable()
 
 
+class Seconds(float):
+    """CPU seconds of a call (its value), with the wall seconds of the same call as ``.wall``."""
+
+    def __new__(cls, cpu: float, wall: float):
+        obj = super().__new__(cls, cpu)
+        obj.wall = wall
+        return obj
+
+
 def timed(fn, *args, **kwargs):
-    """(result, seconds) of one call, with the garbage collector paused as ``timeit`` does."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        t0 = time.perf_counter()
-        out = fn(*args, **kwargs)
-        return out, time.perf_counter() - t0
-    finally:
-        if enabled:
-            gc.enable()
+    """(result, seconds) of one call, with the garbage collector paused as ``timeit`` does: the seconds
+    are CPU time (``process_time``; a :class:`Seconds`, its wall time as ``.wall``)."""
+    out, cpu, wall = cpu_and_wall(fn, *args, **kwargs)
+    return out, Seconds(cpu, wall)
+
+
+def wall_median(times) -> float:
+    """The median wall time of :class:`Seconds` measurements."""
+    return float(np.median([t.wall for t in times]))
 
 
 def fmt_time(seconds: float) -> str:
