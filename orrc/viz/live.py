@@ -5,8 +5,10 @@ chapter's plotting function, then one PNG) takes 0.1 to 1 s; showing a PNG alrea
 milliseconds. So :class:`LiveView` keeps every frame it has drawn (one PNG per grid point, keyed
 by the slider positions) and, while the kernel is idle, draws the frames not yet drawn *ahead* of
 the reader: one frame per turn of the kernel's event loop (on the kernel's own thread, so the
-plotting function never runs concurrently with a cell or with itself), the neighbours of the
-initial view first. A move to a frame not yet drawn draws it on the spot.
+plotting function never runs concurrently with a cell or with itself), nearest first: the
+neighbours of the current view along each slider (the moves a reader makes next), then the rest of
+the grid; after every move the queue is ordered again around the new view. A move to a frame not yet
+drawn draws it on the spot.
 
 The figure is an ``ipywidgets.Image`` whose value is replaced in place (no flicker, no clearing
 of an output area); errors of the plotting function appear in an ``Output`` below it. Each PNG is
@@ -127,6 +129,8 @@ class LiveView:
         with self.messages:
             self.messages.clear_output()
             self.image.value = self.frame(key)
+        if self.pending:  # the frames still to draw: nearest the new view first
+            self._queue = [k for k in self._order(key) if k not in self.frames and k not in self.failed]
 
     def _draw_ahead(self) -> None:
         """Draw the next frame not yet drawn, then give the kernel back its loop (one frame per turn)."""
