@@ -235,9 +235,18 @@ class ShootingNLP(DropsBuffers):
         dynamics, zero initial multipliers)."""
         if name == "rollout":
             return buffered(self, name, lambda: self._rollout)
-        if name == "acceptance":
+        if name == "acceptance":   # its inputs are the SQP buffer's own arrays: nothing is copied
+            return buffered(self, name, lambda: Buffered(self._acceptance, args=self._acceptance_inputs()))
+        if name == "acceptance-copy":   # on arrays of its own (an answer given from elsewhere)
             return buffered(self, name, lambda: self._acceptance)
         return buffered(self, name, lambda: self._nlpsol[name], None, None, self.lbz, self.ubz, 0.0, 0.0, 0.0, 0.0)
+
+    def _acceptance_inputs(self) -> list:
+        """The inputs of the acceptance function (:func:`_acceptance_function`: z, g, λ_x, λ_g, p, the guess's
+        inputs) as views of this thread's SQP buffer: the solver's results, its parameters and the inputs of
+        its initial guess, where the solver left them."""
+        sqp = self._call(SQP)
+        return [sqp.res[0], sqp.res[2], sqp.res[3], sqp.res[4], sqp.args[1], sqp.args[0][: self.M * self.m]]
 
     @property
     def solver_name(self) -> str:
@@ -306,7 +315,7 @@ class ShootingNLP(DropsBuffers):
         fallback = None
         finite = math.isfinite(value) and math.isfinite(zopt.sum())  # (the sum is inf or NaN if an entry is)
         if success and finite and solver == SQP:
-            reason = self._rejection(call.res, zopt, value, p, guess_U, extra)  # (p: the buffer, unchanged)
+            reason = self._rejection(call.res, zopt, value, p, guess_U, extra, in_place=True)
             if reason:
                 success, status = False, f"rejected: {reason}"
         if not success or not finite:
@@ -320,13 +329,18 @@ class ShootingNLP(DropsBuffers):
         return Plan(inputs=U, states=X, value=value, success=success, status=status, iterations=iterations,
                     solve_time=elapsed, fallback=fallback, solver=solver, extra=extra)
 
-    def _rejection(self, res, z, value, p, guess_U, extra) -> str | None:
+    def _rejection(self, res, z, value, p, guess_U, extra, in_place: bool = False) -> str | None:
         """Why a converged SQP answer is not accepted (the checks of the module docstring), or None.
         ``res``: the solver's outputs (x, f, g, lam_x, lam_g, lam_p). The quantities of both checks come
-        from one compiled CasADi function (:func:`_acceptance_function`) evaluated on the buffers."""
-        check = self._call("acceptance")
-        check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1))
-        complementarity, J_guess, rollout_ok, lam_g_1, g_inf = check.res[0]
+        from one compiled CasADi function (:func:`_acceptance_function`); ``in_place``: the answer is in
+        the SQP buffer (:meth:`solve`), whose arrays the function reads without a copy."""
+        if in_place:   # the solver's own buffers: the checks read its answer, p and the guess where they are
+            check = self._call("acceptance")
+            check.evaluate()
+        else:
+            check = self._call("acceptance-copy")
+            check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1))
+        complementarity, J_guess, rollout_ok, lam_g_1, g_inf = check.res[0].tolist()
         extra["complementarity"], extra["guess_cost"] = complementarity, J_guess
         if not complementarity <= ACCEPT_RTOL * abs(value) + ACCEPT_ATOL:
             return (f"bound multipliers not complementary (Σ λ·gap = {complementarity:.3g} > "
