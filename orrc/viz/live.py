@@ -25,7 +25,7 @@ import time
 from .._validate import OrrcValueError
 from .figures import render_live
 
-__all__ = ["LiveView", "NEIGHBOURS_SECONDS"]
+__all__ = ["LiveView"]
 
 #: the most time the explorer's cell spends drawing the first view's neighbours (in a kernel)
 NEIGHBOURS_SECONDS = 1.0
