@@ -3,6 +3,14 @@
 Benchmarks are not timed unit tests: each one measures orrc against a peer in the
 same run (so the machine's speed and load cancel in the ratio), reports medians of
 several repetitions, and says whether the target of issue 2 is met.
+
+**What is measured** (issue 22). A peer comparison states CPU time (``time.process_time``: the
+time this process computed, which another process's load does not inflate) and wall time
+(``time.perf_counter``), with the BLAS thread count equal on both sides: :func:`one_thread`
+limits every BLAS/OpenMP pool to one thread (threadpoolctl) for the whole run, and
+:func:`blas_threads` reports what threadpoolctl sees, so that a ratio does not measure thread
+contention in one of the tools. Peers that run in their own virtual environment get the same
+limit through the environment variables of :data:`ONE_THREAD_ENV` and report their own count.
 """
 from __future__ import annotations
 
@@ -15,18 +23,62 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+#: the environment of a peer's child process: one thread for every BLAS / OpenMP pool
+ONE_THREAD_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+                  "BLIS_NUM_THREADS": "1", "VECLIB_MAXIMUM_THREADS": "1"}
 
-def timed(fn, *args, **kwargs):
-    """(result, seconds) of one call, with the garbage collector paused as ``timeit`` does."""
+
+def one_thread():
+    """A context in which every BLAS / OpenMP thread pool of this process has one thread."""
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1)
+
+
+def blas_threads() -> str:
+    """The thread pools threadpoolctl finds in this process, "openblas: 1, openmp: 1" (or "no BLAS
+    pool loaded")."""
+    from threadpoolctl import threadpool_info
+
+    pools = {}
+    for info in threadpool_info():
+        pools.setdefault(info.get("internal_api", info.get("user_api", "?")), set()).add(info["num_threads"])
+    return ", ".join(f"{k}: {'/'.join(map(str, sorted(v)))}" for k, v in sorted(pools.items())) or "no BLAS pool loaded"
+
+
+def cpu_and_wall(fn, *args, **kwargs):
+    """(result, CPU seconds, wall seconds) of one call (``process_time`` and ``perf_counter``), with the
+    garbage collector paused as ``timeit`` does."""
     enabled = gc.isenabled()
     gc.disable()
     try:
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         out = fn(*args, **kwargs)
-        return out, time.perf_counter() - t0
+        return out, time.process_time() - c0, time.perf_counter() - t0
     finally:
         if enabled:
             gc.enable()
+
+
+class Seconds(float):
+    """CPU seconds of a call (its value), with the wall seconds of the same call as ``.wall``."""
+
+    def __new__(cls, cpu: float, wall: float):
+        obj = super().__new__(cls, cpu)
+        obj.wall = wall
+        return obj
+
+
+def timed(fn, *args, **kwargs):
+    """(result, seconds) of one call, with the garbage collector paused as ``timeit`` does: the seconds
+    are CPU time (``process_time``; a :class:`Seconds`, its wall time as ``.wall``)."""
+    out, cpu, wall = cpu_and_wall(fn, *args, **kwargs)
+    return out, Seconds(cpu, wall)
+
+
+def wall_median(times) -> float:
+    """The median wall time of :class:`Seconds` measurements."""
+    return float(np.median([t.wall for t in times]))
 
 
 def fmt_time(seconds: float) -> str:

@@ -1,6 +1,8 @@
 """Entry point of ``make bench``: ``python -m benchmarks.run [--quick] [--only NAME]``.
 
-Runs the performance benchmarks of issues 2 and 11 (see ``benchmarks/pendulum.py``,
+Runs, with one BLAS thread for every tool (``benchmarks/common.py``), the closed-loop comparison
+with the peers of issue 22 (``benchmarks/peers.py``: bare CasADi, do-mpc, acados, python-control;
+CPU and wall time), the performance benchmarks of issues 2 and 11 (see ``benchmarks/pendulum.py``,
 ``benchmarks/closed_loop.py`` and ``benchmarks/lq_path.py``), the comparison table of issue 14 and
 the min-max benchmark of issue 13 (``benchmarks/minmax.py``), the explorers' re-draw times in a live
 kernel (``benchmarks/widgets.py``, issue 11), prints the machine and a Markdown table of results,
@@ -14,11 +16,13 @@ import argparse
 import sys
 import time
 
-from . import closed_loop, comparison, lq_path, minmax, pendulum, widgets
-from .common import CheckFailed, machine, markdown_table
+from . import closed_loop, comparison, lq_path, minmax, peers, pendulum, regret, widgets
+from .common import CheckFailed, blas_threads, machine, markdown_table, one_thread
 
-FULL = {"pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}, "minmax": {}, "widgets": {}}  # the defaults of each module's run()
+FULL = {"peers": {}, "regret": {}, "pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}, "minmax": {}, "widgets": {}}  # the defaults of each module's run()
 QUICK = {
+    "peers": dict(T=10, M=5, reps=1, reps_control=1, peers=()),
+    "regret": dict(sizes=((8, 2, 1, 5.0),), sdp_size=(5, 2, 1)),
     "pendulum": dict(M=5, thetas=(0.5,), reps_orrc=2, reps_peer=1),
     "closed_loop": dict(T=12, reps=1, reps_ipopt=1),
     "lq": dict(T=40, M=5, reps=2),
@@ -26,7 +30,7 @@ QUICK = {
     "minmax": dict(Ms=(4, 5), reps=1, M_pendulum=5, T=4),
     "widgets": dict(demo=True),
 }
-MODULES = {"pendulum": pendulum, "closed_loop": closed_loop, "lq": lq_path, "comparison": comparison,
+MODULES = {"peers": peers, "regret": regret, "pendulum": pendulum, "closed_loop": closed_loop, "lq": lq_path, "comparison": comparison,
            "minmax": minmax, "widgets": widgets}
 
 
@@ -43,11 +47,13 @@ def main(argv=None) -> int:
           + "".join(f" --only {n}" for n in (args.only or [])))
     rows, failures = [], []
     t0 = time.perf_counter()
-    for name in names:
-        try:
-            rows += MODULES[name].run(**sizes[name])
-        except CheckFailed as exc:
-            failures.append(f"correctness check failed: {exc}")
+    with one_thread():  # every tool with one BLAS thread (issue 22); the peers' child processes too
+        print(f"BLAS thread pools (threadpoolctl): {blas_threads()}")
+        for name in names:
+            try:
+                rows += MODULES[name].run(**sizes[name])
+            except CheckFailed as exc:
+                failures.append(f"correctness check failed: {exc}")
     if args.quick:  # tiny sizes: the timings mean nothing, only the correctness checks count
         for r in rows:
             if r.ok is not None:

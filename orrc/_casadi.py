@@ -20,9 +20,10 @@ class Buffered:
     copied into :attr:`args`, the results appear in :attr:`res`, and no CasADi matrix is built per call.
     The results are overwritten by the next call (copy what you keep)."""
 
-    def __init__(self, fn: ca.Function):
+    def __init__(self, fn: ca.Function, args=None):
         self.fn = fn
-        self.args = [np.zeros(fn.nnz_in(i)) for i in range(fn.n_in())]
+        # ``args``: contiguous arrays to evaluate on instead of arrays of its own (e.g. another buffer's)
+        self.args = list(args) if args is not None else [np.zeros(fn.nnz_in(i)) for i in range(fn.n_in())]
         self.res = [np.zeros(fn.nnz_out(i)) for i in range(fn.n_out())]
         self.buffer, self._evaluate = fn.buffer()
         for i, a in enumerate(self.args):
@@ -39,6 +40,14 @@ class Buffered:
         self._evaluate()
         return self.buffer.ret()
 
+    def evaluate(self, *args) -> None:
+        """As calling it, without reading the return code (for functions that cannot fail: an SX
+        function of the model, the rollout, the acceptance checks)."""
+        for a, v in zip(self.args, args):
+            if v is not None:
+                a[:] = v
+        self._evaluate()
+
     def stats(self) -> dict:
         """The statistics of the last evaluation (``Function.stats`` of the buffer's memory)."""
         return self.buffer.stats()
@@ -46,7 +55,7 @@ class Buffered:
 
 def buffered(owner, key: str, make, *initial) -> Buffered:
     """The :class:`Buffered` of ``owner`` named ``key`` for the calling thread, made by ``make()``
-    (which returns the ``casadi.Function``) on first use, its arguments set to ``initial`` then
+    (which returns the ``casadi.Function``, or a :class:`Buffered` of it) on first use, its arguments set to ``initial`` then
     (arguments that never change, e.g. bounds)."""
     try:
         cache = owner.__dict__["_casadi_buffers"]
@@ -55,7 +64,8 @@ def buffered(owner, key: str, make, *initial) -> Buffered:
     k = (key, threading.get_ident())
     call = cache.get(k)
     if call is None:
-        call = cache[k] = Buffered(make())
+        made = make()
+        call = cache[k] = made if isinstance(made, Buffered) else Buffered(made)
         for a, v in zip(call.args, initial):
             if v is not None:
                 a[:] = v

@@ -12,7 +12,7 @@ import pytest
 
 import orrc
 
-from benchmarks import closed_loop, comparison, lq_path, minmax, pendulum, run, widgets
+from benchmarks import closed_loop, comparison, lq_path, minmax, peers, pendulum, regret, run, widgets
 from benchmarks.common import CheckFailed
 
 
@@ -110,7 +110,11 @@ def test_widget_benchmark_drives_every_explorer_in_a_kernel():
     assert len(first["times"]) == 3 + 2 and len(second["times"]) == 2      # every other value, then back
     for r, n in ((first, 6), (second, 2)):
         assert r["redrawn"] == len(r["times"]) and r["cold_redrawn"] == len(r["cold"]) == len(r["times"])
-        assert r["stats"] == {"on_move": 0, "ahead": n - 1, "cached": len(r["times"])}
+        # the first moves (one per slider and back) came right after the cells ran: each frame was drawn
+        # once, ahead or on the move, and every other move was shown from the cache
+        assert r["first_redrawn"] == len(r["first"]) == 2 * sum(k > 1 for k in r["params"].values())
+        st = r["stats"]
+        assert st["on_move"] + st["ahead"] == n - 1 and st["cached"] + st["on_move"] == len(r["times"]) + len(r["first"])
         assert all(t > 0 for t in r["times"] + r["cold"])
 
 
@@ -158,3 +162,33 @@ def test_comparison_table_has_every_controller_and_the_clairvoyant_is_never_beat
     assert run.main(["--quick", "--only", "comparison"]) == 0
     out = capsys.readouterr().out
     assert "regret-optimal (T = 10)" in out and "H∞, preview 4" in out
+
+
+def test_peers_orrc_and_the_bare_casadi_loop_reach_the_same_closed_loop():
+    rows = peers.run(T=10, M=5, reps=1, reps_control=1, peers=())
+    bare = rows[0]
+    assert bare.data["t_orrc"] > 0 and bare.data["t_bare"] > 0 and np.isfinite(bare.data["J"])
+    assert "BLAS threads" in bare.check and "python-control" in rows[-1].case
+
+
+def test_peers_check_catches_a_different_closed_loop(monkeypatch):
+    real = peers.BareCasadiLoop.__call__
+
+    def off(self, x0, w, T, read_status=False):
+        X, U = real(self, x0, w, T, read_status)
+        return X, U + 1e-3
+
+    monkeypatch.setattr(peers.BareCasadiLoop, "__call__", off)
+    with pytest.raises(CheckFailed, match="not the same closed loop"):
+        peers.run(T=10, M=5, reps=1, reps_control=1, peers=())
+
+
+def test_a_peer_that_cannot_be_installed_is_skipped_with_the_reason(monkeypatch):
+    monkeypatch.setattr(peers, "peer_python", lambda name: (None, "no network"))
+    report, reason = peers.run_peer("acados", peers.problem(5, 3), 1)
+    assert report is None and "acados could not be installed (no network)" in reason
+
+
+def test_regret_benchmark_structured_equals_the_sdp():
+    rows = regret.run(sizes=((8, 2, 1, 5.0),), sdp_size=(5, 2, 1))
+    assert abs(rows[-1].data["gap"]) <= 1e-6 and rows[0].ok is not None

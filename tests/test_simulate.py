@@ -137,3 +137,26 @@ def test_trajectory_info_holds_what_the_controller_recorded():
     assert np.array_equal(traj.info["steps"], np.arange(5))
     traj2 = orrc.simulate(sys1, orrc.ZeroInput(1, c.cost), [1.0], np.zeros((5, 1)), T=5)
     assert traj2.info == {}
+
+
+class _ReportsNaN(Controller):
+    """Reports V_M = NaN at t = 2; at the other steps ``value`` (None: no value reported)."""
+
+    name = "reports NaN"
+
+    def __init__(self, value):
+        self.cost, self.value = orrc.QuadraticCost([[1.0]], [[1.0]]), value
+
+    def control(self, obs):
+        return Decision(u=np.zeros(1), value=float("nan") if obs.t == 2 else self.value)
+
+
+@pytest.mark.parametrize("other", [1.0, None], ids=["values-at-every-step", "values-at-some-steps"])
+def test_a_controller_reporting_a_nan_value_is_marked_and_warned_about(other):
+    sys1 = orrc.LinearSystem([[0.5]], [[1.0]])
+    with pytest.warns(orrc.NonFiniteWarning, match=r"reported a non-finite V_M .* at 1 successful step \(t = 2\)"):
+        traj = orrc.simulate(sys1, _ReportsNaN(other), [1.0], np.zeros((5, 1)), T=5)
+    if other is None:
+        assert traj.values is None  # no V_M at every step: nothing to mark, the warning says so
+    else:
+        assert np.isnan(traj.values[2]) and traj.value_valid.tolist() == [True, True, False, True, True]

@@ -59,7 +59,10 @@ def max_failures_arg(max_failures) -> int | None:
 
 def _shift(rows: np.ndarray, k: int) -> np.ndarray:
     """rows[k:] followed by k copies of the last row (same length)."""
-    return np.concatenate((rows[k:], np.broadcast_to(rows[-1], (k,) + rows.shape[1:])))
+    out = np.empty_like(rows)
+    out[:len(rows) - k] = rows[k:]
+    out[len(rows) - k:] = rows[-1]
+    return out
 
 
 class FailureLadder:
@@ -127,9 +130,7 @@ class FailureLadder:
         plan = self.attempt(rungs)
         self._tried = [label for label, _ in rungs]
         if plan.success:
-            self._good, self._good_t = plan, t
-            self._streak = []
-            return plan
+            return self.succeeded(t, plan)
         self._streak.append((t, plan.status))
         shifted = self.warm_start(t)
         if shifted is not None:
@@ -141,6 +142,13 @@ class FailureLadder:
         plan.value = math.nan  # a failed solve has no optimal value V_M
         if self.max_failures is not None and len(self._streak) >= self.max_failures:
             raise SolverError(self._stop_message(t), step=t, statuses=[s for _, s in self._streak])
+        return plan
+
+    def succeeded(self, t: int, plan: Plan) -> Plan:
+        """Record ``plan``, solved successfully at step t, as the plan to shift from (what :meth:`step`
+        does when a rung succeeds; a controller that solved its first rung itself calls it directly)."""
+        self._good, self._good_t = plan, t
+        self._streak = []
         return plan
 
     def _stop_message(self, t: int) -> str:

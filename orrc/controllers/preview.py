@@ -354,7 +354,18 @@ class PreviewRHC(Controller):
             plan = self._plan(x, W, P, invariant, None)
         else:
             warm = self._ladder.warm_start(obs.t)
-            plan = self._ladder.step(obs.t, self._rungs(x, W, P, None if warm is None else warm[:2]))
+            warm = None if warm is None else warm[:2]
+            if warm is not None and self.solver != "qp":
+                # the ladder's first rung solved here: a success needs nothing more (the common step);
+                # a failure climbs the other rungs, the first one's plan reused
+                plan = self._nlp.solve(x, W, P, *warm, solver=self._nlp.solvers[0], theta=self.theta)
+                if plan.success:
+                    self._ladder.succeeded(obs.t, plan)
+                else:
+                    first, *rest = self._rungs(x, W, P, warm)
+                    plan = self._ladder.step(obs.t, [(first[0], lambda: plan), *rest])
+            else:
+                plan = self._ladder.step(obs.t, self._rungs(x, W, P, warm))
         return Decision(u=plan.inputs[0].copy(), value=plan.value, success=plan.success,
                         status=plan.status, iterations=plan.iterations, solve_time=plan.solve_time,
                         fallback=plan.fallback, solver=plan.solver)

@@ -12,8 +12,16 @@ and its regret is ‖S^½(Φ − Φ*)w‖² (:mod:`orrc.solvers.condensed`). So 
 
     minimise ‖S^½(Φ − Φ*)‖₂  over strictly block-lower-triangular Φ,
 
-a semidefinite program (the spectral norm is an LMI of size T(m+n)), solved with cvxpy and the
-open-source conic solver Clarabel.
+solved by default with its structure (``method="structured"``, :mod:`orrc.solvers.regret`): a causal
+factor Δ of S (ΔᵀΔ = S, Δ lower triangular) turns it into the distance from ΔΦ* to the strictly
+causal operators, whose value is Arveson's distance formula and whose optimum Parrott's theorem
+builds one block row at a time (Goel and Hassibi's reduction to a Nehari-type problem, in finite
+dimensions): T = 200 with n = 2, m = 1 in seconds. ``method="sdp"`` solves the same problem as a
+semidefinite program (the spectral norm is an LMI of size T(m+n)) with cvxpy and the open-source
+conic solver Clarabel: the cross-check, for small problems (T(m + n) <= 64).
+
+The controller is *strictly causal*: u_t depends on x_0..x_t (equivalently w_0..w_{t-1}), never on
+w_t, as in the regret-optimal papers' causal class.
 """
 from __future__ import annotations
 
@@ -25,12 +33,18 @@ from .._validate import OrrcValueError, as_int, check_problem
 from ..costs import QuadraticCost
 from ..solvers.condensed import condensed
 from ..solvers.nlp import SolverWarning
+from ..solvers.regret import regret_optimal_operator
 from ..systems import LinearSystem
 from .base import Controller, Decision, Observation
 
-__all__ = ["RegretOptimal", "MAX_LMI_DIM"]
+__all__ = ["RegretOptimal", "MAX_LMI_DIM", "METHODS"]
 
 MAX_LMI_DIM = 64  # T (m + n): the size of the SDP's matrix inequality (a few seconds with Clarabel at the limit)
+#: the values of ``RegretOptimal(method=...)``
+METHODS = ("structured", "sdp")
+#: the structured method's operations (module orrc.solvers.regret: about (T m)³ (T n) / 2, plus the
+#: condensed operators), measured here at about 1e9 per second on one core
+_OPS_PER_SECOND = 1e9
 
 
 def _check_sdp_size(T: int, n: int, m: int) -> None:
@@ -47,23 +61,60 @@ def _check_sdp_size(T: int, n: int, m: int) -> None:
             f"T(m + n) = {dim} (limit {MAX_LMI_DIM}) with {free} free entries of Φ and "
             f"{dim * (dim + 1) // 2} entries in the semidefinite cone; use T <= {MAX_LMI_DIM // (m + n)} "
             f"for n = {n}, m = {m}")
-    check_size(f"RegretOptimal's condensed operators over T={T} steps (n={n}, m={m})",
-               nbytes=8.0 * 8 * (T * max(n, m)) ** 2, ops=20.0 * (T * max(n, m)) ** 3, hint="lower T")
+    _check_operator_size(T, n, m)
+
+
+def _check_operator_size(T: int, n: int, m: int) -> None:
+    """The package's memory and operation limits (orrc._validate.check_size) for the condensed operators
+    and the structured method's sweep (:mod:`orrc.solvers.regret`), with the estimate in the message."""
+    from .._validate import check_size
+
+    ops = 20.0 * (T * max(n, m)) ** 3 + 0.5 * (T * m) ** 3 * (T * n) + T * (T * m) * (T * n) ** 2
+    check_size(f"RegretOptimal over T={T} steps (n={n}, m={m}): the condensed operators and the structured "
+               f"solve (about {ops / _OPS_PER_SECOND:.2g} s)",
+               nbytes=8.0 * 8 * (T * max(n, m)) ** 2, ops=ops, hint="lower T")
+
+
+def _solve_sdp(c, T: int, m: int, n: int):
+    """(Φ, optimal value squared, status) of the regret-optimal SDP: minimise ‖S^½(Φ − Φ*)‖₂ over strictly
+    block-lower-triangular Φ, with cvxpy and Clarabel (the cross-check of the structured method)."""
+    import cvxpy as cp
+
+    mask = np.kron(np.tril(np.ones((T, T)), k=-1), np.ones((m, n)))   # strictly causal
+    V = cp.Variable((T * m, T * n))
+    Phi = cp.multiply(mask, V)
+    objective = cp.Minimize(cp.sigma_max(c.S_half @ Phi - c.S_half @ c.Phi_star))
+    prob = cp.Problem(objective)
+    try:
+        prob.solve(solver="CLARABEL")
+    except cp.error.SolverError as exc:
+        raise RuntimeError(f"the regret-optimal SDP failed in Clarabel: {exc}") from exc
+    if prob.status not in ("optimal", "optimal_inaccurate") or V.value is None:
+        raise RuntimeError(f"the regret-optimal SDP was not solved (Clarabel status {prob.status!r})")
+    if prob.status == "optimal_inaccurate":
+        warnings.warn("the regret-optimal SDP was solved only inaccurately (Clarabel); the reported "
+                      "regret is that of the operator found", SolverWarning, stacklevel=3)
+    return mask * np.asarray(V.value), float(prob.value) ** 2, prob.status
 
 
 class RegretOptimal(Controller):
     """The causal controller with the smallest worst-case dynamic regret over a horizon of T steps.
 
     Parameters: ``system`` (a :class:`~orrc.LinearSystem`), ``cost`` (a :class:`~orrc.QuadraticCost`),
-    ``T`` (the horizon; T(m + n) <= :data:`MAX_LMI_DIM`, else a clear error with the limit).
+    ``T`` (the horizon), ``method``: "structured" (default; Arveson's distance formula and Parrott's
+    completion on a causal factor of S, :mod:`orrc.solvers.regret`; refused with the estimate beyond
+    the package's size limits, ``orrc.config``) or "sdp" (the semidefinite program with Clarabel, the
+    cross-check; T(m + n) <= :data:`MAX_LMI_DIM`, else a clear error with the limit).
 
     Attributes
     ----------
     Phi : (Tm, Tn) the optimal disturbance-feedback operator, v = Φ w with u_t = −K x_t + v_t (block (t, s)
         nonzero only for s < t; K = ``condensed.K``, the LQR gain).
     regret : its worst-case dynamic regret over ‖w‖ <= 1, ‖S^½(Φ − Φ*)‖₂² (computed from Φ with numpy).
-    sdp_value : the SDP's optimal value squared (equal to ``regret`` up to the solver's tolerance).
-    status : the solver's status.
+    value : the optimal worst-case regret the method computed: Arveson's distance squared (structured)
+        or the SDP's optimal value squared (equal to ``regret`` up to the method's tolerance).
+    sdp_value : the same number (its name from the SDP-only version).
+    method, status : the method used and its status ("optimal" for the structured method).
 
     As a controller (in :func:`orrc.simulate`) it plays u_t = −K x_t + Σ_{s<t} Φ_{ts} w_s with w_s recovered from
     the observed states and applied inputs (x_{s+1} − A x_s − B u_s). It is designed from x_0 = 0 (the
@@ -72,40 +123,31 @@ class RegretOptimal(Controller):
 
     name = "regret-optimal"
 
-    def __init__(self, system: LinearSystem, cost: QuadraticCost, T: int):
-        import cvxpy as cp
-
+    def __init__(self, system: LinearSystem, cost: QuadraticCost, T: int, method: str = "structured"):
         check_problem(system, cost, linear=True, quadratic=True, who="RegretOptimal",
                       why_linear=" (x⁺ = Ax + Bu + w)")
         self.T = as_int("T", T, minimum=2)
+        if not isinstance(method, str) or method not in METHODS:
+            raise OrrcValueError(f"method must be one of {', '.join(map(repr, METHODS))}; got {method!r}")
         n, m = system.n, system.m
-        _check_sdp_size(self.T, n, m)
-        self.system, self.cost = system, cost
+        if method == "sdp":
+            _check_sdp_size(self.T, n, m)
+        else:
+            _check_operator_size(self.T, n, m)
+        self.system, self.cost, self.method = system, cost, method
         self.preview_w = self.preview_c = 0
         from .baselines import LQR
 
         K_pre = LQR(system, cost).K   # pre-stabilisation: well-conditioned operators (any K gives the same optimum)
         self.condensed = c = condensed(system.A, system.B, cost.Q, cost.R, self.T, K=K_pre)
-        mask = np.kron(np.tril(np.ones((self.T, self.T)), k=-1), np.ones((m, n)))   # strictly causal
-        V = cp.Variable((self.T * m, self.T * n))
-        Phi = cp.multiply(mask, V)
-        objective = cp.Minimize(cp.sigma_max(c.S_half @ Phi - c.S_half @ c.Phi_star))
-        prob = cp.Problem(objective)
-        try:
-            prob.solve(solver="CLARABEL")
-        except cp.error.SolverError as exc:
-            raise RuntimeError(f"the regret-optimal SDP failed in Clarabel: {exc}") from exc
-        self.status = prob.status
-        if prob.status not in ("optimal", "optimal_inaccurate") or V.value is None:
-            raise RuntimeError(f"the regret-optimal SDP was not solved (Clarabel status {prob.status!r})")
-        if prob.status == "optimal_inaccurate":
-            warnings.warn("the regret-optimal SDP was solved only inaccurately (Clarabel); the reported "
-                          "regret is that of the operator found", SolverWarning, stacklevel=2)
-        self.Phi = mask * np.asarray(V.value)
-        self.sdp_value = float(prob.value) ** 2
+        if method == "structured":
+            self.Phi, self.value = regret_optimal_operator(c.S, c.Phi_star, self.T, m, n)
+            self.status = "optimal"
+        else:
+            self.Phi, self.value, self.status = _solve_sdp(c, self.T, m, n)
+        self.sdp_value = self.value
         self.regret = float(np.linalg.norm(c.regret_operator(self.Phi), 2) ** 2)
         self.reset()
-
     def reset(self) -> None:
         self._w = np.zeros((self.T, self.system.n))
         self._x_prev = self._u_prev = None
@@ -127,4 +169,4 @@ class RegretOptimal(Controller):
         return Decision(u=u)
 
     def __repr__(self):
-        return f"RegretOptimal(T={self.T}, regret={self.regret:.6g}, system={self.system!r})"
+        return f"RegretOptimal(T={self.T}, method={self.method!r}, regret={self.regret:.6g}, system={self.system!r})"

@@ -216,23 +216,37 @@ class ShootingNLP(DropsBuffers):
                           UserWarning, stacklevel=3)
         self._nlpsol = {s: _nlpsol(s, problem, opts[s], solver_options) for s in self.solvers}
         self.solver_options = opts
-        if SQP in self.solvers:
-            self._rollout = ca.Function("rollout", [p, ca.vec(U)], [J_roll, ca.vertcat(*X_roll)])
         ulo, uhi = (np.full(m, -np.inf), np.full(m, np.inf)) if input_bounds is None else input_bounds
         xlo, xhi = (np.full(n, -np.inf), np.full(n, np.inf)) if state_bounds is None else state_bounds
         self.lbz = np.concatenate([np.tile(ulo, M), np.tile(xlo, M)])
         self.ubz = np.concatenate([np.tile(uhi, M), np.tile(xhi, M)])
+        if SQP in self.solvers:
+            self._rollout = ca.Function("rollout", [p, ca.vec(U)], [J_roll, ca.vertcat(*X_roll)])
+            self._acceptance = _acceptance_function(z, problem["g"], p, ca.vec(U), J_roll, ca.vertcat(*X_roll),
+                                                    self.lbz, self.ubz, state_bounds is not None)
         self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
         self._cold_U = np.clip(np.zeros((M, m)), *self.input_bounds)
         self._cold_U.flags.writeable = False
         self.state_bounds = None if state_bounds is None else (np.asarray(xlo, float), np.asarray(xhi, float))
 
     def _call(self, name: str) -> Buffered:
-        """The solver (or the rollout) ``name`` on numpy buffers (:mod:`orrc._casadi`); the solvers' bounds
-        never change (the x̃ and ũ boxes, g = 0 for the dynamics, zero initial multipliers)."""
+        """The solver (or the rollout, or the acceptance checks) ``name`` on numpy buffers
+        (:mod:`orrc._casadi`); the solvers' bounds never change (the x̃ and ũ boxes, g = 0 for the
+        dynamics, zero initial multipliers)."""
         if name == "rollout":
             return buffered(self, name, lambda: self._rollout)
+        if name == "acceptance":   # its inputs are the SQP buffer's own arrays: nothing is copied
+            return buffered(self, name, lambda: Buffered(self._acceptance, args=self._acceptance_inputs()))
+        if name == "acceptance-copy":   # on arrays of its own (an answer given from elsewhere)
+            return buffered(self, name, lambda: self._acceptance)
         return buffered(self, name, lambda: self._nlpsol[name], None, None, self.lbz, self.ubz, 0.0, 0.0, 0.0, 0.0)
+
+    def _acceptance_inputs(self) -> list:
+        """The inputs of the acceptance function (:func:`_acceptance_function`: z, g, λ_x, λ_g, p, the guess's
+        inputs) as views of this thread's SQP buffer: the solver's results, its parameters and the inputs of
+        its initial guess, where the solver left them."""
+        sqp = self._call(SQP)
+        return [sqp.res[0], sqp.res[2], sqp.res[3], sqp.res[4], sqp.args[1], sqp.args[0][: self.M * self.m]]
 
     @property
     def solver_name(self) -> str:
@@ -295,12 +309,13 @@ class ShootingNLP(DropsBuffers):
         success = bool(stats.get("success", False))
         zopt, value = call.res[0].copy(), float(call.res[1][0])
         U = zopt[: M * m].reshape(M, m)
-        X = np.vstack([x, zopt[M * m:].reshape(M, n)])
+        X = np.empty((M + 1, n))
+        X[0], X[1:] = x, zopt[M * m:].reshape(M, n)
         extra = {"lam_x": call.res[3].copy(), "lam_g": call.res[4].copy()}  # the multipliers (bounds, dynamics)
         fallback = None
-        finite = bool(np.isfinite(zopt).all() and math.isfinite(value))
+        finite = math.isfinite(value) and math.isfinite(zopt.sum())  # (the sum is inf or NaN if an entry is)
         if success and finite and solver == SQP:
-            reason = self._rejection(call.res, zopt, value, p, guess_U, extra)  # (p: the buffer, unchanged)
+            reason = self._rejection(call.res, zopt, value, p, guess_U, extra, in_place=True)
             if reason:
                 success, status = False, f"rejected: {reason}"
         if not success or not finite:
@@ -314,29 +329,49 @@ class ShootingNLP(DropsBuffers):
         return Plan(inputs=U, states=X, value=value, success=success, status=status, iterations=iterations,
                     solve_time=elapsed, fallback=fallback, solver=solver, extra=extra)
 
-    def _rejection(self, res, z, value, p, guess_U, extra) -> str | None:
+    def _rejection(self, res, z, value, p, guess_U, extra, in_place: bool = False) -> str | None:
         """Why a converged SQP answer is not accepted (the checks of the module docstring), or None.
-        ``res``: the solver's outputs (x, f, g, lam_x, lam_g, lam_p)."""
-        g, lam_x, lam_g = res[2], res[3], res[4]
-        # Σ λ⁺ (ub − z) + λ⁻ (z − lb); a multiplier on an absent (infinite) bound makes it infinite
-        gap = np.where(lam_x > 0, self.ubz - z, z - self.lbz)
-        complementarity = float(np.abs(lam_x) @ np.where(lam_x != 0, gap, 0.0))
-        extra["complementarity"] = complementarity
+        ``res``: the solver's outputs (x, f, g, lam_x, lam_g, lam_p). The quantities of both checks come
+        from one compiled CasADi function (:func:`_acceptance_function`); ``in_place``: the answer is in
+        the SQP buffer (:meth:`solve`), whose arrays the function reads without a copy."""
+        if in_place:   # the solver's own buffers: the checks read its answer, p and the guess where they are
+            check = self._call("acceptance")
+            check.evaluate()
+        else:
+            check = self._call("acceptance-copy")
+            check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1))
+        complementarity, J_guess, rollout_ok, lam_g_1, g_inf = check.res[0].tolist()
+        extra["complementarity"], extra["guess_cost"] = complementarity, J_guess
         if not complementarity <= ACCEPT_RTOL * abs(value) + ACCEPT_ATOL:
             return (f"bound multipliers not complementary (Σ λ·gap = {complementarity:.3g} > "
                     f"{ACCEPT_RTOL:g}·|J| with J = {value:.6g})")
-        rollout = self._call("rollout")
-        rollout(p, guess_U.reshape(-1))
-        J_guess, X_guess = float(rollout.res[0][0]), rollout.res[1]
-        extra["guess_cost"] = J_guess
-        if not (math.isfinite(J_guess) and np.isfinite(X_guess).all()):
-            return None  # the guess's rollout overflows: no comparison point
-        if self.state_bounds is not None:
-            Xg = X_guess.reshape(self.M, self.n)
-            if (Xg < self.state_bounds[0]).any() or (Xg > self.state_bounds[1]).any():
-                return None  # the guess's rollout leaves the state bounds: not a feasible comparison point
-        slack = ACCEPT_RTOL * abs(J_guess) + float(np.abs(lam_g).sum()) * (float(np.abs(g).max()) if g.size else 0.0)
+        if not rollout_ok == 1.0:
+            return None  # the guess's rollout overflows or leaves the state bounds: no feasible comparison point
+        slack = ACCEPT_RTOL * abs(J_guess) + lam_g_1 * g_inf
         if value > J_guess + slack + ACCEPT_ATOL:
             return (f"objective {value:.8g} above the cost {J_guess:.8g} of the initial guess's inputs "
                     "(a feasible point): SQP stopped at a worse stationary point")
         return None
+
+
+def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bool) -> ca.Function:
+    """The quantities of the SQP acceptance checks (module docstring) as one CasADi function of the
+    solver's answer, its multipliers, the parameters and the guess's inputs:
+    (z, g, λ_x, λ_g, p, vec U_guess) -> [Σ_i λ⁺_i (ub_i − z_i) + λ⁻_i (z_i − lb_i), J_g (the cost of the
+    guess's inputs rolled out), 1 if that rollout is finite (and within the state bounds) else 0,
+    ‖λ_g‖₁, ‖g‖_∞]. A multiplier on an absent (infinite) bound makes the first one infinite."""
+    zs, gs, lam_x, lam_g = (ca.SX.sym(name, v.numel()) for name, v in (("z", z), ("g", g), ("lam_x", z),
+                                                                       ("lam_g", g)))
+    lb, ub = ca.DM(lbz), ca.DM(ubz)
+    gap = ca.if_else(lam_x > 0, ub - zs, zs - lb)
+    complementarity = ca.sum1(ca.fabs(lam_x) * ca.if_else(lam_x != 0, gap, 0))
+    roll = ca.Function("guess_rollout", [p, U], [J_roll, X_roll])
+    ps, Us = ca.SX.sym("p", p.numel()), ca.SX.sym("U", U.numel())
+    J_g, X_g = roll(ps, Us)
+    finite = ca.logic_and(J_g * 0 == 0, ca.sum1(X_g * 0) == 0)   # x * 0 is NaN exactly when x is inf or NaN
+    if state_bounded:
+        n_u = U.numel()
+        finite = ca.logic_and(finite, ca.logic_and(ca.mmin(X_g - lb[n_u:]) >= 0, ca.mmin(ub[n_u:] - X_g) >= 0))
+    out = ca.vertcat(complementarity, J_g, ca.if_else(finite, 1, 0), ca.sum1(ca.fabs(lam_g)),
+                     ca.mmax(ca.fabs(gs)) if g.numel() else 0)
+    return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, Us], [out])

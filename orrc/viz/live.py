@@ -5,8 +5,12 @@ chapter's plotting function, then one PNG) takes 0.1 to 1 s; showing a PNG alrea
 milliseconds. So :class:`LiveView` keeps every frame it has drawn (one PNG per grid point, keyed
 by the slider positions) and, while the kernel is idle, draws the frames not yet drawn *ahead* of
 the reader: one frame per turn of the kernel's event loop (on the kernel's own thread, so the
-plotting function never runs concurrently with a cell or with itself), the neighbours of the
-initial view first. A move to a frame not yet drawn draws it on the spot.
+plotting function never runs concurrently with a cell or with itself), nearest first: the
+neighbours of the current view along each slider (the moves a reader makes next), then the rest of
+the grid; after every move the queue is ordered again around the new view. In a kernel the
+neighbours of the first view (one step along each slider: the first move a reader makes) are drawn
+before the explorer's cell returns, for at most :data:`NEIGHBOURS_SECONDS`, so that a move made right
+after a chapter ran finds its frame. A move to a frame not yet drawn draws it on the spot.
 
 The figure is an ``ipywidgets.Image`` whose value is replaced in place (no flicker, no clearing
 of an output area); errors of the plotting function appear in an ``Output`` below it. Each PNG is
@@ -22,6 +26,9 @@ from .._validate import OrrcValueError
 from .figures import render_live
 
 __all__ = ["LiveView"]
+
+#: the most time the explorer's cell spends drawing the first view's neighbours (in a kernel)
+NEIGHBOURS_SECONDS = 1.0
 
 
 def _fmt(v) -> str:
@@ -82,6 +89,7 @@ class LiveView:
             ahead = in_kernel()
         self._loop = _running_loop() if ahead else None
         if self._loop is not None:
+            self._draw_neighbours(start, NEIGHBOURS_SECONDS)
             self._loop.call_soon(self._draw_ahead)
 
     @property
@@ -127,6 +135,26 @@ class LiveView:
         with self.messages:
             self.messages.clear_output()
             self.image.value = self.frame(key)
+        if self.pending:  # the frames still to draw: nearest the new view first
+            self._queue = [k for k in self._order(key) if k not in self.frames and k not in self.failed]
+
+    def _draw_neighbours(self, start: tuple, budget: float) -> None:
+        """Draw the frames one step from ``start`` along each slider now (nearest first), until ``budget``
+        seconds have passed."""
+        t0 = time.perf_counter()
+        for key in [k for k in self._queue if sum(abs(a - b) for a, b in zip(k, start)) == 1]:
+            if time.perf_counter() - t0 > budget:
+                break
+            self._draw_one(key)
+
+    def _draw_one(self, key: tuple) -> None:
+        """Draw the frame of ``key`` ahead of the reader (a plotting error is kept for the move there)."""
+        try:
+            kwargs = self.kwargs(key)
+            self.frames[key] = render_live(check_figure(self.plot(**kwargs), kwargs), self.dpi)
+            self.stats["ahead"] += 1
+        except Exception:  # noqa: BLE001 - shown when the reader moves there (drawn on the move, in messages)
+            self.failed.add(key)
 
     def _draw_ahead(self) -> None:
         """Draw the next frame not yet drawn, then give the kernel back its loop (one frame per turn)."""
@@ -134,13 +162,7 @@ class LiveView:
             self._queue.pop(0)
         if not self._queue or getattr(self.widget, "comm", None) is None:   # done, or the widget was closed
             return
-        key = self._queue.pop(0)
-        try:
-            kwargs = self.kwargs(key)
-            self.frames[key] = render_live(check_figure(self.plot(**kwargs), kwargs), self.dpi)
-            self.stats["ahead"] += 1
-        except Exception:  # noqa: BLE001 - shown when the reader moves there (drawn on the move, in messages)
-            self.failed.add(key)
+        self._draw_one(self._queue.pop(0))
         self._loop.call_later(0.005, self._draw_ahead)
 
     def time_frame(self, key: tuple) -> float:

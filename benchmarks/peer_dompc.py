@@ -1,0 +1,71 @@
+"""do-mpc on the closed loop of ``benchmarks/peers.py`` (run in do-mpc's own environment).
+
+Reads the problem (JSON) on stdin, runs the closed loop ``argv[1]`` times, prints one JSON line:
+the inputs of the last run, the median CPU and wall seconds of a run, do-mpc's version and the
+BLAS pools threadpoolctl sees. Only numpy, casadi and do-mpc: nothing of orrc.
+"""
+import json
+import sys
+import time
+
+import casadi as ca
+import do_mpc
+import numpy as np
+from threadpoolctl import threadpool_info
+
+
+def build(prob):
+    dt, gl, fr, umax, (qt, qo), r, M = (prob[k] for k in ("dt", "g_over_l", "friction", "u_max", "q", "r", "M"))
+    model = do_mpc.model.Model("discrete")
+    th, om = model.set_variable("_x", "theta"), model.set_variable("_x", "omega")
+    u = model.set_variable("_u", "u")
+    w0, w1 = model.set_variable("_tvp", "w0"), model.set_variable("_tvp", "w1")
+    model.set_rhs("theta", th + dt * om + w0)
+    model.set_rhs("omega", om + dt * (gl * ca.sin(th) - fr * om + u) + w1)
+    model.setup()
+    mpc = do_mpc.controller.MPC(model)
+    mpc.settings.n_horizon, mpc.settings.t_step = M, dt
+    mpc.settings.store_full_solution = False
+    mpc.settings.nlpsol_opts = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": 0, "ipopt.tol": 1e-10}
+    mpc.set_objective(mterm=0 * th, lterm=qt * th ** 2 + qo * om ** 2 + r * u ** 2)
+    mpc.bounds["lower", "_u", "u"], mpc.bounds["upper", "_u", "u"] = -umax, umax
+    W = np.array(prob["w"])
+    tvp = mpc.get_tvp_template()
+
+    def tvp_fun(t_now):
+        k0 = int(round(float(np.asarray(t_now).reshape(-1)[0]) / dt))
+        for k in range(M + 1):
+            w = W[k0 + k] if k0 + k < len(W) else np.zeros(2)
+            tvp["_tvp", k, "w0"], tvp["_tvp", k, "w1"] = w[0], w[1]
+        return tvp
+
+    mpc.set_tvp_fun(tvp_fun)
+    mpc.setup()
+    return mpc, W
+
+
+def closed_loop(prob):
+    mpc, W = build(prob)
+    dt, gl, fr, T = prob["dt"], prob["g_over_l"], prob["friction"], prob["T"]
+    x = np.array(prob["x0"], float)
+    mpc.x0 = x.reshape(-1, 1)
+    mpc.set_initial_guess()
+    U = []
+    c0, t0 = time.process_time(), time.perf_counter()
+    for t in range(T):
+        u = float(np.asarray(mpc.make_step(x.reshape(-1, 1))).reshape(-1)[0])
+        U.append(u)
+        x = np.array([x[0] + dt * x[1], x[1] + dt * (gl * np.sin(x[0]) - fr * x[1] + u)]) + W[t]
+    return U, time.process_time() - c0, time.perf_counter() - t0
+
+
+def main():
+    prob = json.loads(sys.stdin.read())
+    runs = [closed_loop(prob) for _ in range(int(sys.argv[1]))]
+    pools = ", ".join(sorted({f"{i['internal_api']}: {i['num_threads']}" for i in threadpool_info()})) or "none loaded"
+    print(json.dumps(dict(U=runs[-1][0], cpu=float(np.median([r[1] for r in runs])),
+                          wall=float(np.median([r[2] for r in runs])), version=do_mpc.__version__, threads=pools)))
+
+
+if __name__ == "__main__":
+    main()

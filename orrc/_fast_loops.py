@@ -1,0 +1,84 @@
+"""The fast paths of :func:`orrc.simulate`: the same closed loop and information pattern, without an
+Observation and a Decision per step (:mod:`orrc.controllers.base`, "Inputs without the per-step
+records" and "Affine laws").
+
+The rule that chooses them (:func:`fast_path`): a controller that offers ``fast_input`` on a problem
+without a cost preview runs :func:`fast_input_loop`; if it also offers ``fast_affine`` (an affine law
+u_t = −K x_t + f(W_t)), :func:`affine_loop`. Every other run takes the loop of the paper's
+information pattern in :mod:`orrc.simulate`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ._validate import OrrcValueError
+from .trajectory import Record, windows
+
+
+def fast_path(controller, rec: Record):
+    """The loop that runs ``controller`` (:func:`affine_loop`, :func:`fast_input_loop`), or None for
+    the loop of the information pattern: a controller's ``fast_input`` serves a problem whose costs
+    it does not preview (a time-invariant cost, or a controller with preview_c = 0)."""
+    if controller.fast_input is None or (rec.cparams is not None and rec.Mc):
+        return None
+    return affine_loop if getattr(controller, "fast_affine", None) is not None else fast_input_loop
+
+
+def affine_loop(controller, rec: Record, step, A, B) -> None:
+    """The closed loop of a controller that offers ``fast_affine``: u_t = −K x_t + f_t, with the
+    feed-forward f_t of every step's own preview window from one batch call before the loop. On a
+    linear system (``step`` None) the loop steps the closed loop x_{t+1} = (A − BK) x_t + B f_t + w_t
+    (one product per step) and the inputs u_t = −K x_t + f_t follow in one product; otherwise each step
+    computes u_t and calls the dynamics."""
+    T, Mw, X, X_read, U, wpad = rec.T, rec.Mw, rec.X, rec.X_read, rec.U, rec.wpad
+    m = U.shape[1]
+    K, feedforward = controller.fast_affine
+    F = np.asarray(feedforward(windows(wpad, Mw, T)), dtype=float)
+    if F.shape != (T, m) or np.shape(K) != (m, X.shape[1]):
+        raise OrrcValueError(f"controller {controller.name!r}: fast_affine must give K of shape ({m}, {X.shape[1]}) "
+                             f"and a feed-forward of shape ({T}, {m}); got {np.shape(K)} and {F.shape}")
+    negK = -np.asarray(K, dtype=float)
+    if step is None:   # linear: x_{t+1} = (A − BK) x_t + (B f_t + w_t), the inputs after the loop in one product
+        Acl, E = A + B @ negK, F @ B.T + wpad[:T]
+        for t in range(T):
+            X[t + 1] = Acl @ X_read[t] + E[t]
+        U[:] = X[:T] @ negK.T + F
+        return
+    for t in range(T):
+        xt = X_read[t]
+        u = negK @ xt + F[t]
+        U[t] = u
+        X[t + 1] = step(xt, u, wpad[t])
+
+
+def fast_input_loop(controller, rec: Record, step, A, B) -> None:
+    """The closed loop of a controller that offers ``fast_input``: the same information (x_t read-only,
+    the preview w_{t:t+M_w-1}), no Observation or Decision per step."""
+    T, Mw, X, X_read, U, wpad = rec.T, rec.Mw, rec.X, rec.X_read, rec.U, rec.wpad
+    m = U.shape[1]
+    fast = controller.fast_input
+    m_shape = (m,)
+    empty_w = wpad[:0]
+    for t in range(T):
+        xt = X_read[t]
+        u = fast(xt, wpad[t:t + Mw] if Mw else empty_w)
+        if type(u) is not np.ndarray or u.shape != m_shape or u.dtype != float:
+            try:
+                u = np.asarray(u, dtype=float).reshape(m)
+            except (TypeError, ValueError) as exc:
+                raise OrrcValueError(f"controller {controller.name!r}: fast_input must return u with m={m} entries; "
+                                     f"at t={t} it returned shape {np.shape(u)}") from exc
+        U[t] = u
+        X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
+
+
+def record_fast_steps(controller, rec: Record) -> None:
+    """The per-step record of a fast run: every step is described by ``controller.fast_decision``
+    (its status, solver, V_M or that V_M is deferred); the stage costs of a non-quadratic cost."""
+    tmpl, T = controller.fast_decision, rec.T
+    rec.status[:], rec.solver[:] = [tmpl.status] * T, [tmpl.solver] * T
+    rec.deferred[:] = tmpl.value_deferred
+    if tmpl.value is not None:
+        rec.V[:], rec.has_value[:] = tmpl.value, True
+    if not rec.quadratic:
+        rec.costs_in_loop()

@@ -1,0 +1,241 @@
+"""The record of a closed-loop run (:class:`Trajectory`) and how :func:`orrc.simulate` fills it.
+
+:class:`Record` holds the arrays a run writes step by step (x_t, u_t, c_t, V_M and the solver's
+report of each step); :meth:`Record.trajectory` assembles the :class:`Trajectory` of the first
+``steps`` steps: the deferred V_M in one ``values_batch`` call, the stage costs of a quadratic cost
+in one product, σ(x_t), and the checks of what the run produced (a non-finite cost, σ or V_M warns
+with :class:`~orrc.NonFiniteWarning`; a negative σ is refused). The texts of the run's warnings are
+here too (:func:`failure_summary`).
+"""
+from __future__ import annotations
+
+import warnings
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._validate import NonFiniteWarning, OrrcValueError
+from .costs import QuadraticCost, StageCost
+
+
+@dataclass
+class Trajectory:
+    """The result of :func:`simulate`.
+
+    x : (T+1, n) states x_0..x_T          u : (T, m) inputs
+    w : (T, n) the disturbances that acted  costs : (T,) c_t(x_t, u_t)
+    w_all : (T + max(M_w, 1), n) the disturbance record the controller previewed
+        (w plus the preview tail, zeros where the given data ran out)
+    sigma : (T+1,) σ(x_t)
+    values : (T,) V_M at each step when the controller reports it at every step, else None;
+        NaN at the steps whose solve failed (a failed solve has no optimal value)
+    value_valid : (T,) bool, True where ``values`` holds the V_M of a successful solve (None with
+        ``values``); the checks of :mod:`orrc.checks` refuse a trajectory where it is not all True
+    success : (T,) False at the steps whose solve failed (True where the controller solved
+        nothing, e.g. the clairvoyant's steps after t = 0); status : list of solver statuses (a
+        step rescued by a retry reads e.g. "SQP cold start: Solve_Succeeded (after SQP warm start: ...)")
+    solver : list, per step, the solver that produced the step ("lq", "sqp", "ipopt"; for a
+        failed step the last one tried; None where nothing was solved); :attr:`solver_counts`
+        counts them (e.g. how often SQP fell back to IPOPT)
+    fallback : list, per step, None or what was applied instead of the failed solve's optimum
+        (e.g. "the previous successful plan, shifted", "the solver's last iterate")
+    iterations, solve_times : (T,) solver iterations and seconds per step
+    wall_time : seconds for the whole simulation
+    info : what the controller recorded during the run (``Controller.record()``; empty by default)
+    """
+
+    x: np.ndarray
+    u: np.ndarray
+    w: np.ndarray
+    w_all: np.ndarray
+    costs: np.ndarray
+    sigma: np.ndarray
+    values: np.ndarray | None
+    success: np.ndarray
+    status: list
+    iterations: np.ndarray
+    solve_times: np.ndarray
+    controller: str
+    preview_w: int
+    preview_c: int
+    alpha_lo: float | None = None
+    wall_time: float = 0.0
+    info: dict = field(default_factory=dict)
+    value_valid: np.ndarray | None = None
+    fallback: list = field(default_factory=list)
+    solver: list = field(default_factory=list)
+
+    @property
+    def T(self) -> int:
+        return len(self.u)
+
+    @property
+    def n_failures(self) -> int:
+        """The number of steps whose solve failed."""
+        return int(np.count_nonzero(~self.success))
+
+    @property
+    def failed_steps(self) -> np.ndarray:
+        """The steps t whose solve failed."""
+        return np.flatnonzero(~self.success)
+
+    @property
+    def solver_counts(self) -> dict:
+        """{solver: number of steps it produced} (``solver`` per step; None: nothing solved)."""
+        return dict(Counter(self.solver))
+
+    def __repr__(self):
+        return (f"Trajectory(controller={self.controller!r}, T={self.T}, total cost={self.costs.sum():.4g}, "
+                f"solver failures={self.n_failures})")
+
+
+def steps_text(steps, most: int = 12) -> str:
+    """"0-4, 17, 20" for [0, 1, 2, 3, 4, 17, 20] (the first ``most`` runs, then "...")."""
+    runs, start = [], None
+    for i, t in enumerate(steps):
+        if start is None:
+            start = t
+        if i + 1 == len(steps) or steps[i + 1] != t + 1:
+            runs.append(f"{start}" if start == t else f"{start}-{t}")
+            start = None
+    return ", ".join(runs[:most]) + (", ..." if len(runs) > most else "")
+
+
+def failure_summary(name: str, T: int, ok, status, fallback) -> str:
+    steps = np.flatnonzero(~ok)
+    applied = Counter(fallback[t] or "not stated by the controller" for t in steps)
+    statuses = sorted({status[t] for t in steps})
+    what = ", ".join(f"{label} ({k} step{'s' if k > 1 else ''})" for label, k in applied.most_common())
+    return (f"{name}: the solve failed at {len(steps)} of {T} steps (t = {steps_text(steps)}; statuses: "
+            f"{statuses}); applied instead: {what}. Trajectory.success marks these steps, Trajectory.fallback "
+            "says what was applied, and their V_M are NaN (Trajectory.value_valid); orrc.checks refuses such a "
+            "trajectory.")
+
+
+def _nonfinite_report(name, C, sig, V, valid_value, reported=None):
+    """The NonFiniteWarning text for overflowed costs, σ or V_M (x, u finite), or None."""
+    parts = []
+    for label, arr in (("stage costs c_t", C), ("σ(x_t)", sig)):
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            parts.append(f"{label} at {bad.size} steps from t={bad[0]}")
+    if V is not None and valid_value is not None:
+        bad = np.flatnonzero(~np.isfinite(V) & valid_value & ~reported)
+        if bad.size:
+            parts.append(f"the controller's V_M at {bad.size} steps from t={bad[0]} (marked in value_valid)")
+    text = None
+    if parts:
+        text = (f"{name}: the state stayed finite but " + "; ".join(parts) + " overflowed (inf or NaN): the "
+                "weights, the state or T are too large for floating point; the metrics refuse these values")
+    if reported is not None and reported.any():
+        steps = np.flatnonzero(reported)
+        where = ("marked invalid in Trajectory.value_valid" if V is not None else
+                 "Trajectory.values is None: the controller did not report V_M at every step")
+        said = (f"{name}: the controller reported a non-finite V_M (value=NaN or inf) at {steps.size} successful "
+                f"step{'s' if steps.size > 1 else ''} (t = {steps_text(steps)}); {where}; the metrics and "
+                "orrc.checks refuse these values")
+        text = said if text is None else text + "; " + said
+    return text
+
+
+
+
+def windows(wpad, Mw: int, k: int):
+    """The preview windows w_{t:t+M_w-1} of the steps t < k, a read-only (k, M_w, n) view of the
+    disturbance record (no copy)."""
+    n = wpad.shape[1]
+    s0, s1 = wpad.strides
+    return np.lib.stride_tricks.as_strided(wpad, shape=(k, Mw, n), strides=(s0, s0, s1), writeable=False)
+
+
+def _batch_values(controller, X, wpad, Mw: int, deferred, V, has_value) -> None:
+    """V[t] for the deferred steps t, from one ``controller.values_batch`` call (see
+    :mod:`orrc.controllers.base`): the states x_t and the preview windows w_{t:t+M_w-1} (read-only
+    views of the disturbance record, not copies)."""
+    idx = np.flatnonzero(deferred)
+    wins = windows(wpad, Mw, len(V))
+    if len(idx) < len(V):
+        wins = wins[idx]
+    vals = np.asarray(controller.values_batch(X[idx], wins), dtype=float)
+    if vals.shape != (len(idx),):
+        raise OrrcValueError(f"controller {controller.name!r}: values_batch must return one value per deferred step, "
+                             f"shape ({len(idx)},); it returned shape {vals.shape}")
+    V[idx] = vals
+    has_value[idx] = True
+
+
+class Record:
+    """What a run of T steps writes, step by step: x_t (``X``, row 0 = x_0), u_t (``U``), c_t (``C``,
+    filled after the loop for a time-invariant quadratic cost), V_M (``V``; ``has_value`` where the
+    controller reported it, ``deferred`` where it comes from ``values_batch`` after the loop,
+    ``reported_nonfinite`` where it reported NaN or inf at a successful step), and the solver's report
+    of each step (``ok``, ``status``, ``solver``, ``fallback``, ``iters``, ``times``).
+
+    ``X_read`` is a read-only view of ``X``: its rows are what a controller is handed as x_t.
+    ``wpad`` is the read-only disturbance record (w plus the preview tail, zeros past the data);
+    ``cparams`` the cost parameters of a cost sequence (read-only; None for a time-invariant cost).
+    """
+
+    def __init__(self, controller, stage: StageCost, seq, x0, wpad, cparams, T: int, n: int, m: int):
+        self.controller, self.stage, self.seq, self.wpad, self.cparams = controller, stage, seq, wpad, cparams
+        self.T, self.Mw, self.Mc = T, controller.preview_w, controller.preview_c
+        self.X = np.empty((T + 1, n))
+        self.U = np.empty((T, m))
+        self.C = np.empty(T)
+        self.V = np.full(T, np.nan)
+        self.has_value = np.zeros(T, dtype=bool)
+        self.deferred = np.zeros(T, dtype=bool)
+        self.reported_nonfinite = np.zeros(T, dtype=bool)
+        self.ok = np.ones(T, dtype=bool)
+        self.status, self.solver, self.fallback = [""] * T, [None] * T, [None] * T
+        self.iters = np.zeros(T, dtype=int)
+        self.times = np.zeros(T)
+        self.X[0] = x0
+        self.X_read = self.X.view()
+        self.X_read.flags.writeable = False
+        #: c_t = x_tᵀQx_t + u_tᵀRu_t for all t at once after the loop (the costs do not feed back)
+        self.quadratic = isinstance(stage, QuadraticCost) and seq is None
+        # the stage cost for checked x, u (the loop's hot path)
+        self.stage_cost = stage._value if type(stage).value is StageCost.value else stage.value
+
+    def costs_in_loop(self) -> None:
+        """c_t of every step from the recorded x_t, u_t (a cost the loop did not compute)."""
+        cp = self.cparams
+        for t in range(self.T):
+            self.C[t] = self.stage_cost(self.X[t], self.U[t], None if cp is None else cp[t])
+
+    def trajectory(self, steps: int, wall: float, stacklevel: int = 3):
+        """The :class:`Trajectory` of the first ``steps`` steps (all T, or the steps before a SolverError)."""
+        controller, stage, seq, Mw = self.controller, self.stage, self.seq, self.Mw
+        Xs, Us, Cs, Vs, oks = self.X[:steps + 1], self.U[:steps], self.C[:steps], self.V[:steps], self.ok[:steps]
+        has_value = self.has_value[:steps]
+        if self.deferred[:steps].any():  # V_M of the deferred steps: one call for the whole run
+            with np.errstate(over="ignore", invalid="ignore"):  # an overflowed V_M is reported below
+                _batch_values(controller, Xs, self.wpad, Mw, self.deferred[:steps], Vs, has_value)
+        if self.quadratic:
+            Q, R = stage.Q, stage.R
+            with np.errstate(over="ignore", invalid="ignore"):
+                Cs[:] = np.einsum("ti,ti->t", Xs[:-1] @ Q, Xs[:-1]) + np.einsum("ti,ti->t", Us @ R, Us)
+        with np.errstate(over="ignore", invalid="ignore"):
+            sig = np.einsum("ij,ij->i", Xs, Xs) if type(stage).sigma is StageCost.sigma else \
+                np.array([stage.sigma(x) for x in Xs])
+        if np.any(sig < 0):
+            raise OrrcValueError(f"the cost's sigma(x) must be >= 0 (Assumption 2); it is {sig.min():.3g} at "
+                                 f"t={int(np.argmin(sig))}")
+        values = valid = None
+        if steps and has_value.all():
+            Vs[~oks] = np.nan  # a failed solve has no optimal value, whatever the controller reported
+            values, valid = Vs.copy(), oks & np.isfinite(Vs)
+        report = _nonfinite_report(controller.name, Cs, sig, values, oks if values is not None else None,
+                                   self.reported_nonfinite[:steps] & oks)
+        if report:
+            warnings.warn(report, NonFiniteWarning, stacklevel=stacklevel)
+        alpha_lo = seq.alpha_lo if seq is not None else stage.alpha_lo
+        wpad = self.wpad
+        return Trajectory(x=Xs.copy(), u=Us.copy(), w=np.array(wpad[:steps]), w_all=np.array(wpad[:steps + max(Mw, 1)]),
+                          costs=Cs.copy(), sigma=sig, values=values, success=oks.copy(), status=self.status[:steps],
+                          iterations=self.iters[:steps].copy(), solve_times=self.times[:steps].copy(),
+                          controller=controller.name, preview_w=Mw, preview_c=self.Mc, alpha_lo=alpha_lo,
+                          wall_time=wall, info=dict(controller.record()), value_valid=valid,
+                          fallback=self.fallback[:steps], solver=self.solver[:steps])
