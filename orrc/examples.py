@@ -94,11 +94,11 @@ def two_mass_spring(dt: float = 0.1, k: float = 1.0, c: float = 0.05) -> Example
 
 def inverted_pendulum(dt: float = 0.05, g_over_l: float = 9.81, friction: float = 0.1,
                       u_max: float = 20.0) -> Example:
-    """Pendulum about its upright position θ = 0 (nonlinear, open-loop unstable), Euler-sampled:
+    """Pendulum about its upright position φ = 0 (nonlinear, open-loop unstable), Euler-sampled:
 
-        θ_{t+1} = θ_t + dt ω_t,   ω_{t+1} = ω_t + dt (g/l sin θ_t − friction ω_t + u_t),  plus w_t.
+        φ_{t+1} = φ_t + dt ω_t,   ω_{t+1} = ω_t + dt (g/l sin φ_t − friction ω_t + u_t),  plus w_t.
 
-    Cost c = 10 θ² + ω² + 0.1 u², input bounds |u| <= u_max.
+    Cost c = 10 φ² + ω² + 0.1 u², input bounds |u| <= u_max.
     """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
     g_over_l = as_float("g_over_l", g_over_l, minimum=0.0)

@@ -10,8 +10,8 @@ for many steps at once may leave it out of the step: it returns ``Decision(value
 (and no ``value``), and :func:`orrc.simulate` calls :meth:`Controller.values_batch` once after the
 last step, with the states and preview windows of every deferred step (a step of the fast path below
 counts as deferred when its ``fast_decision`` says so). The exact LQ path of :class:`~orrc.PreviewRHC`
-does this through its fast path: V_M(x_t, W_t) = z_tᵀ H z_t for the whole run is one matrix product,
-where one product per step with the (n + Mn)² matrix H was most of the step's time. (Its
+does this through its fast path: V_M(x_t, W_t) = z_tᵀ ℋ z_t for the whole run is one matrix product,
+where one product per step with the (n + Mn)² matrix ℋ was most of the step's time. (Its
 :meth:`~orrc.PreviewRHC.control`, called directly or by a controller that wraps it, still reports V_M.)
 
 **Inputs without the per-step records.** A controller whose steps, on a problem without a cost

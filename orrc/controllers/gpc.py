@@ -8,6 +8,10 @@ Singh, "Online Control with Adversarial Disturbances" (ICML 2019).
 * :func:`best_fixed_policy` -- the best fixed disturbance-action policy in hindsight on a given
   disturbance sequence, the comparator of GPC's regret (Theorem 5.1 of the paper).
 
+The names follow that paper: M_i, the memory H and (κ, γ) are the book's D^{[i]}, h and (χ, δ),
+since in the book M is the horizon, H Lemma 2's look-ahead, κ the receding-horizon law and γ the
+attenuation level.
+
 The disturbances are never previewed: w_{t−1} is recovered from the observed states and the input
 actually applied, w_{t−1} = x_t − A x_{t−1} − B u_{t−1}, exact for a known linear system. Both
 controllers are strictly causal: u_t uses x_0..x_t (equivalently w_0..w_{t−1}), never w_t.

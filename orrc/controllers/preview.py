@@ -212,7 +212,7 @@ class PreviewRHC(Controller):
 
     @functools.cached_property
     def law(self) -> lq.LQPreviewLaw | None:
-        """The exact affine law u = -K x - L vec W and V_M = zᵀHz of the LQ path (None on the NLP path).
+        """The exact affine law u = -K x - L vec W and V_M = zᵀℋz (``H``) of the LQ path (None on the NLP path).
 
         Built on first use (by :meth:`control`, ``orrc.certify`` or the reader), not in the
         constructor: it costs O(M³n³) and an (n+Mn)² matrix, which :meth:`plan` does not
