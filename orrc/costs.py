@@ -31,6 +31,12 @@ def _norm_sq(x) -> float:
     return float(x @ x)
 
 
+def psd_factor(S: np.ndarray) -> np.ndarray:
+    """A matrix F with FᵀF = S for a symmetric PSD S (a weight's square root: xᵀQx = ‖Fx‖²)."""
+    lam, V = np.linalg.eigh(0.5 * (S + S.T))
+    return np.sqrt(np.clip(lam, 0.0, None))[:, None] * V.T
+
+
 def _name(name) -> str:
     if not isinstance(name, str):
         raise OrrcValueError(f"name must be a string; got {type(name).__name__}")

@@ -340,9 +340,9 @@ CASES = [
         **{**vars(lqr_traj()), "x": lqr_traj().x + 1.0})), "reference", "same problem"),
 
     # -- orrc.theory ---------------------------------------------------------------------------------
-    case("horizon_threshold-underflow", lambda: th.horizon_threshold(1e-200, 1.0), "alpha_lo=1e-200", "ZeroDivision"),
+    case("horizon_threshold-overflow", lambda: th.horizon_threshold(1e-200, 1.0), "alpha_lo=1e-200", "not representable"),
     case("gamma_tilde-underflow", lambda: th.gamma_tilde(5e-324, 1.0), "alpha_lo=5e-324"),
-    case("Gamma_V-overflow", lambda: th.Gamma_V(2, 1e-300, 1e200), "alpha_hi=1e+200", "Overflow"),
+    case("Gamma_V-overflow", lambda: th.Gamma_V(2, 1e-300, 1e200), "alpha_hi=1e+200", "overflows"),
     case("Gamma_V-M-one", lambda: th.Gamma_V(1, 1.0, 2.0), "M", ">= 2"),
     case("Gamma_V_gamma-gamma_bar-zero", lambda: th.Gamma_V_gamma(5, 1.0, 2.0, 0.0), "gamma_bar"),
     case("min_decay_rate-below-threshold", lambda: th.min_decay_rate(3, 1.0, 2.0), "M=3", "threshold"),

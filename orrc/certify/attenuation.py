@@ -22,6 +22,7 @@ from ..controllers.hinf import HInfinity
 from ..controllers.regret_optimal import RegretOptimal
 from ..controllers.preview import PreviewRHC
 from ..solvers.plan import SolverWarning
+from ..costs import psd_factor as _sqrt_psd
 from ..systems import LinearSystem
 from .constants import _check_linear_system, _check_quadratic_cost
 
@@ -54,12 +55,6 @@ class Attenuation:
     closed_loop: object = field(default=None, repr=False)
     reason: str | None = None
     start: str = "cold"
-
-
-def _sqrt_psd(S: np.ndarray) -> np.ndarray:
-    """A matrix F with FᵀF = S for a symmetric PSD S."""
-    lam, V = np.linalg.eigh(0.5 * (S + S.T))
-    return np.sqrt(np.clip(lam, 0.0, None))[:, None] * V.T
 
 
 @dataclass

@@ -43,7 +43,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import theory
-from .._validate import OrrcValueError, as_float, as_int, check_problem
+from .._validate import OrrcValueError, as_float, as_int
+from .._problem import check_problem
 from ..costs import QuadraticCost, StageCost
 from ..disturbances import Box, _rng
 from ..systems import LinearSystem, System

@@ -11,7 +11,8 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int, check_size, check_problem
+from .._validate import OrrcValueError, as_float, as_int, check_size
+from .._problem import check_problem
 from ..controllers.preview import PreviewRHC
 from ..costs import StageCost
 from ..systems import System

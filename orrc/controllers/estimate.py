@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_int, check_problem
+from .._validate import OrrcValueError, as_array, as_bool, as_int
+from .._problem import check_problem
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..parametric import LinearParametricSystem, ParametricSystem
 from .base import Controller, Decision, Observation
@@ -128,7 +129,7 @@ class EstimateThenControl(Controller):
             raise OrrcValueError(f"model ({model.name}) is not affine in theta, so least squares does not apply: pass "
                                  "estimator=..., or use an orrc.estimation.EDMD model")
         self.estimator = estimator
-        self.use_w = bool(use_w)
+        self.use_w = as_bool("use_w", use_w)
         if rank_deficient not in ("raise", "warn"):
             raise OrrcValueError(f"rank_deficient must be 'raise' or 'warn'; got {rank_deficient!r}")
         self.rank_deficient = rank_deficient

@@ -21,7 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import as_float, as_int, check_problem
+from .._validate import as_float, as_int, check_size
+from .._problem import check_problem
 from ..costs import QuadraticCost
 from ..solvers import game
 from ..systems import LinearSystem, NonlinearSystem, System
@@ -92,7 +93,13 @@ class HInfinity(Controller):
         self.preview = as_int("preview", preview, minimum=0)
         A, B = (system.A, system.B) if isinstance(system, LinearSystem) else system.linearize()
         game.check_stabilisable(A, B)
-        n = A.shape[0]
+        n, m = B.shape
+        N = n * (self.preview + 1)
+        # the optimal level: a bisection of about 60 certified game AREs on the (N + m + n)-dimensional
+        # pencil of the augmented system (each O(N³), with a handful of N x N work arrays)
+        check_size(f"HInfinity's game on the state augmented with preview={self.preview} disturbances (n={n}: "
+                   f"{N} states)", nbytes=8.0 * 40 * (N + m + n) ** 2,
+                   ops=(60 if gamma is None else 2) * 200.0 * (N + m + n) ** 3, hint="lower the preview")
         if self.preview:
             Ab, Bb, Qb, Eb = preview_buffer_system(A, B, cost.Q, self.preview)
         else:

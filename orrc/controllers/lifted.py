@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, check_problem
+from .._validate import OrrcValueError
+from .._problem import check_problem
 from ..costs import Cost, QuadraticCost, StageCost
 from .base import Controller, Decision, Observation
 from .preview import PreviewRHC

@@ -5,7 +5,8 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int, check_problem
+from .._validate import OrrcValueError, as_array, as_float, as_int
+from .._problem import check_problem
 from ..costs import QuadraticCost, StageCost
 from ..disturbances import Box
 from ..systems import LinearSystem, System

@@ -87,6 +87,7 @@ class ScenarioExchange:
     def __init__(self, system, cost, M: int, W, input_bounds=None, rtol: float = 1e-6, atol: float = 1e-10,
                  max_iter: int = 30, n_starts: int = 8, max_scenarios: int = 64, solver: str = "sqpmethod",
                  solver_options=None, seed=0, fw_iter: int = 50, verify_factor: int = 4):
+        as_seed("seed", seed)      # a seed numpy cannot use is refused here, not at the first solve
         self.M, self.n, self.m, self.W = M, system.n, system.m, W
         self.rtol, self.atol, self.max_iter = rtol, atol, max_iter
         self.n_starts, self.max_scenarios, self.fw_iter, self.seed = n_starts, max_scenarios, fw_iter, seed

@@ -44,6 +44,7 @@ import numpy as np
 from .._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd, eigvalsh_tol
 from . import _game_bounds as bounds
 from ._game_bounds import EPS
+from .lq import riccati_steps_size
 
 __all__ = ["GameSolution", "finite_horizon_game", "stationary_game", "optimal_game_level", "check_stabilisable"]
 
@@ -184,6 +185,8 @@ def finite_horizon_game(A, B, Q, R, gamma, M, Pf=None, E=None) -> GameSolution:
     gamma = _gamma(gamma)
     M = as_int("M", M, minimum=1)
     n = A.shape[0]
+    riccati_steps_size(f"the {M}-step game's backward recursion at M={M} (n={n}, m={B.shape[1]}, "
+                       f"q={E.shape[1]})", M, n, B.shape[1] + E.shape[1])
     if Pf is not None:
         Pf = as_square("Pf", Pf, n)
         check_psd("Pf", Pf)
@@ -207,6 +210,9 @@ def finite_game_level(A, B, Q, R, M, Pf=None, E=None, tol: float = 1e-9) -> floa
     M = as_int("M", M, minimum=1)
     tol = as_float("tol", tol, minimum=0.0, strict_min=True)
     n = A.shape[0]
+    # the bisection: about log2(range/tol) <= 100 recursions of M steps
+    riccati_steps_size(f"finite_game_level's bisection over the {M}-step game at M={M} (n={n}, m={B.shape[1]}, "
+                       f"q={E.shape[1]})", 100 * M, n, B.shape[1] + E.shape[1])
     Pf = None if Pf is None else as_square("Pf", Pf, n)
 
     def feasible(g):

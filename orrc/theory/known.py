@@ -73,13 +73,15 @@ def _M(M) -> int:
 
 # -- the formulas, unvalidated (arguments already checked; used here and by orrc.certify) -------------
 def _above(M: int, alpha_lo: float, alpha_hi: float) -> bool:
-    """M > ᾱ²/α_lo² + 1, evaluated as ᾱ² < α_lo² (M - 1) (the sign of Lemma 1's Γ_V)."""
-    return alpha_hi * alpha_hi < alpha_lo * alpha_lo * (M - 1)
+    """M > ᾱ²/α_lo² + 1, evaluated as (ᾱ/α_lo)² < M - 1 (the sign of Lemma 1's Γ_V)."""
+    r = alpha_hi / alpha_lo      # the ratio first: α_lo = ᾱ = 1e-200 has representable answers
+    return r * r < M - 1
 
 
 def _a_min(M: int, alpha_lo: float, alpha_hi: float) -> float:
     """a_min = 1 - (α_lo - ᾱ²/((M-1) α_lo)) / ᾱ (Lemma 2; see :func:`min_decay_rate`)."""
-    return 1.0 - (alpha_lo - alpha_hi ** 2 / ((M - 1) * alpha_lo)) / alpha_hi
+    r = alpha_hi / alpha_lo
+    return 1.0 - 1.0 / r + r / (M - 1)
 
 
 def _b(alpha_lo: float, alpha_hi: float, gamma_bar: float) -> float:
@@ -96,7 +98,7 @@ def _gamma_c(M: int, a: float, b: float) -> float:
 def above_threshold(M, alpha_lo, alpha_hi) -> bool:
     """True when M > ᾱ²/α_lo² + 1 (the horizon condition of Lemma 2 and Theorem 1).
 
-    Evaluated as ᾱ² < α_lo² (M - 1), the same comparison as Γ_V < 0 in Lemma 1.
+    Evaluated as (ᾱ/α_lo)² < M - 1, the same comparison as Γ_V < 0 in Lemma 1.
     """
     M = _M(M)
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
@@ -105,7 +107,7 @@ def above_threshold(M, alpha_lo, alpha_hi) -> bool:
 
 def _require_threshold(M: int, alpha_lo: float, alpha_hi: float) -> None:
     if not _above(M, alpha_lo, alpha_hi):
-        thr = alpha_hi ** 2 / alpha_lo ** 2 + 1
+        thr = (alpha_hi / alpha_lo) ** 2 + 1
         raise OrrcValueError(
             f"M={M} is not above the horizon threshold alpha_hi²/alpha_lo² + 1 = {thr:.6g} "
             f"(alpha_lo={alpha_lo:.6g}, alpha_hi={alpha_hi:.6g}); Lemma 2 and Theorem 1 need "
@@ -140,7 +142,7 @@ def horizon_threshold(alpha_lo, alpha_hi) -> float:
     V_M decreases along the closed loop when there is no disturbance.
     """
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
-    return alpha_hi ** 2 / alpha_lo ** 2 + 1.0
+    return (alpha_hi / alpha_lo) ** 2 + 1.0
 
 
 @finite_result
@@ -152,7 +154,7 @@ def Gamma_V(M, alpha_lo, alpha_hi) -> float:
     """
     M = _M(M)
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
-    return alpha_hi ** 2 / (alpha_lo * (M - 1)) - alpha_lo
+    return alpha_lo * ((alpha_hi / alpha_lo) ** 2 / (M - 1) - 1.0)
 
 
 @finite_result
