@@ -497,6 +497,10 @@ def _all_cases():
 
 
 def test_the_table_covers_the_public_api():
+    import orrc.comparison
+    import orrc.controllers.gpc
+    import orrc.solvers.game
+    import orrc.tradeoff
     from test_bad_input_unknown import CASES as CASES_UNKNOWN   # the unknown-system half (issue 12)
 
     assert len(CASES) >= 100
@@ -504,11 +508,13 @@ def test_the_table_covers_the_public_api():
     public = (orrc.__all__ + orrc.theory.__all__ + orrc.certify.__all__ + orrc.checks.__all__
               + orrc.estimation.__all__
               + ["zero", "constant", "sinusoid", "uniform_ball", "uniform_box", "gaussian", "bursts", "make", "energy"]
-              + list(exs.ALL))
+              + list(exs.ALL) + orrc.controllers.__all__ + orrc.solvers.game.__all__ + orrc.comparison.__all__
+              + orrc.tradeoff.__all__ + orrc.controllers.gpc.__all__)
     untested = {"OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning", "System",
                 "StageCost", "Controller", "Observation", "Decision", "Plan", "Trajectory", "disturbances", "examples",
                 "Attenuation", "Lemma1Margins", "Regret", "Lipschitz", "Theorem2Bound", "Estimate", "LinearEstimate",
-                "EDMDModel", "RankWarning", "Transitions", "MinMaxConstants", "SweepError"}  # exceptions, base classes and records:
+                "EDMDModel", "RankWarning", "Transitions", "MinMaxConstants", "SweepError", "Decision", "GameSolution",
+                "ComparisonRow", "PreviewValue", "Tradeoff", "FixedPolicy"}  # exceptions, base classes and records:
     # nothing to call with bad input
     missing = [name for name in public if name not in untested and name not in ids]
     assert not missing, f"no bad-input case for {missing}"

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError
+from .._validate import OrrcValueError, as_array
 from .._problem import check_problem
 from ..costs import Cost, QuadraticCost, StageCost
 from .base import Controller, Decision, Observation
@@ -71,7 +71,10 @@ class LiftedRHC(Controller):
 
     def plan(self, x, w_preview):
         """The M-step plan on the lifted model from state x with previewed disturbances (M, n)."""
-        return self.inner.plan(self.model.lift(np.asarray(x, dtype=float)), np.asarray(w_preview) @ self.model.E.T)
+        n = self.model.C.shape[0]
+        x = as_array("x", x, (n,))
+        w_preview = as_array("w_preview", w_preview, (self.M, n))
+        return self.inner.plan(self.model.lift(x), w_preview @ self.model.E.T)
 
     def control(self, obs: Observation) -> Decision:
         return self.inner.control(self.lift_observation(obs))

@@ -106,8 +106,9 @@ def _gamma(gamma) -> float:
 def check_stabilisable(A, B, what: str = "(A, B)") -> None:
     """Raise :class:`~orrc.OrrcValueError` unless (A, B) is stabilisable (discrete time, PBH test:
     rank [A − λI, B] = n for every eigenvalue |λ| >= 1)."""
-    A, B = np.asarray(A, float), np.asarray(B, float)
+    A = as_square("A", A)
     n = A.shape[0]
+    B = as_array("B", B, (n, None))
     scale = max(1.0, float(np.abs(A).max()), float(np.abs(B).max()) if B.size else 0.0)
     for lam in np.linalg.eigvals(A):
         if abs(lam) >= 1.0 - 1e-12:
