@@ -340,7 +340,8 @@ CASES = [
         **{**vars(lqr_traj()), "x": lqr_traj().x + 1.0})), "reference", "same problem"),
 
     # -- orrc.theory ---------------------------------------------------------------------------------
-    case("horizon_threshold-overflow", lambda: th.horizon_threshold(1e-200, 1.0), "alpha_lo=1e-200", "not representable"),
+    case("horizon_threshold-overflow", lambda: th.horizon_threshold(1e-200, 1.0), "alpha_lo=1e-200",
+         "not representable"),
     case("gamma_tilde-underflow", lambda: th.gamma_tilde(5e-324, 1.0), "alpha_lo=5e-324"),
     case("Gamma_V-overflow", lambda: th.Gamma_V(2, 1e-300, 1e200), "alpha_hi=1e+200", "overflows"),
     case("Gamma_V-M-one", lambda: th.Gamma_V(1, 1.0, 2.0), "M", ">= 2"),

@@ -83,7 +83,8 @@ CASES = [
          "N=1000000000", "too large"),
     case("MinMaxRHC-game-M-too-large", lambda: orrc.MinMaxRHC(SYS, QC, BIG, W1, method="game", gamma=50.0),
          "M=1000000000", "too large"),
-    case("finite_horizon_game-M-too-large", lambda: game.finite_horizon_game([[1.2]], [[1.0]], [[1.0]], [[1.0]], 50.0, BIG),
+    case("finite_horizon_game-M-too-large", lambda: game.finite_horizon_game([[1.2]], [[1.0]], [[1.0]], [[1.0]], 50.0,
+                                                                             BIG),
          "M=1000000000", "too large"),
     case("HInfinity-preview-too-large", lambda: orrc.HInfinity(SYS4, QC4, preview=2000), "preview=2000", "too large"),
     case("GPC-H-too-large", lambda: orrc.GPC(SYS, QC, H=BIG), "H=1000000000", "too large"),
@@ -160,13 +161,27 @@ CASES = [
     case("exploration_tradeoff-model-dimension", lambda: exploration_tradeoff(
         SYS, orrc.ParametricSystem.linear(2, 1), QC, 2, np.array([4, 6, 8]), seeds=1, window=10), "model", "n=2"),
 
-    case("stationary_game-gamma", lambda: game.stationary_game([[1.2]], [[1.0]], [[1.0]], [[1.0]], -1.0), "gamma", "> 0"),
+    case("stationary_game-gamma", lambda: game.stationary_game([[1.2]], [[1.0]], [[1.0]], [[1.0]], -1.0), "gamma",
+         "> 0"),
     case("optimal_game_level-A-nan", lambda: game.optimal_game_level([[np.nan]], [[1.0]], [[1.0]], [[1.0]]), "A",
          "finite"),
     case("check_stabilisable-A-type", lambda: game.check_stabilisable("A", [[0.0]]), "A", "numeric"),
     case("check_stabilisable-B-shape", lambda: game.check_stabilisable([[2.0]], [[0.0], [1.0]]), "B", "(1, any)"),
     case("FailureLadder-max_failures", lambda: orrc.controllers.FailureLadder(3, max_failures=0), "max_failures",
          ">= 1"),
+
+    # messages name the argument given, by its own name
+    case("theorem2_constant-sigma_N-named", lambda: unk.theorem2_constant(np.ones(2), np.ones((10, 1)), -1.0, 0.1, 5, 2,
+                                                                          3, 0.9, 1.0, 1.0, 1.0, 1e3, **L45),
+         "sigma_N", ">= 0"),
+    case("theorem2_constant-M-type", lambda: unk.theorem2_constant(np.ones(2), np.ones((10, 1)), 1.0, 0.1, 5, 2, "3",
+                                                                   0.9, 1.0, 1.0, 1.0, 1e3, **L45), "M", "integer"),
+    case("theorem2_constant-estimation_costs-type", lambda: unk.theorem2_constant(
+        "zz", np.ones((10, 1)), 1.0, 0.1, 5, 2, 3, 0.9, 1.0, 1.0, 1.0, 1e3, **L45), "estimation_costs", "numeric"),
+    case("gamma_c_W-gamma_bar_W-none", lambda: nop.gamma_c_W(3, 0.9, 1.0, 1.0, None), "gamma_bar_W", "None"),
+    case("GPC-system-none", lambda: orrc.GPC(None, QC), "system", "NoneType"),
+    case("MinMaxRHC-system-none", lambda: orrc.MinMaxRHC(None, QC, 3, W1), "system", "NoneType"),
+    case("HInfinity-system-none", lambda: orrc.HInfinity(None, QC), "system", "NoneType"),
 
     # 5. dimensions before the first step, non-finite results said --------------------------------------
     case("EstimateThenControl-other-dimension", lambda: orrc.simulate(
@@ -187,7 +202,8 @@ def test_the_valid_extreme_constants_answer_as_in_the_known_system_theory():
     assert th.above_threshold(3, 1e-200, 1e-200) and not th.above_threshold(2, 1e-200, 1e-200)
     assert th.min_decay_rate(3, 1e-200, 1e-200) == th.min_decay_rate_W(3, 1e-200, 1e-200) == pytest.approx(0.5)
     assert th.Gamma_V(3, 1e-200, 1e-200) == th.Gamma_WV(3, 1e-200, 1e-200) == pytest.approx(-0.5e-200, rel=1e-12)
-    scale = unk.lemma5_c(3, 0.5, 1e-200, 1e-200, 1.0, 1.0, 1.0, 1.0) / unk.lemma5_c(3, 0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
+    tiny, unit = (unk.lemma5_c(3, 0.5, s, s, 1.0, 1.0, 1.0, 1.0) for s in (1e-200, 1.0))
+    scale = tiny / unit
     assert scale == pytest.approx(1.0, rel=1e-12), "c depends on α_lo and ᾱ only through their ratio here"
 
 

@@ -33,7 +33,7 @@ import casadi as ca
 import numpy as np
 
 from .._validate import OrrcValueError, as_array, as_float, as_int, as_seed, check_size
-from .._problem import check_problem
+from .._problem import check_cost, check_problem
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem
 
@@ -246,7 +246,7 @@ def sampled_lipschitz(model, cost: StageCost, M: int, theta, radius: float, n_sa
 
     if not isinstance(model, ParametricSystem):
         raise OrrcValueError(f"model must be an orrc.ParametricSystem; got {type(model).__name__}")
-    check_problem(None, cost)
+    check_cost(cost)
     M = as_int("M", M, minimum=1)
     theta = model.check_theta(theta)
     radius = as_float("radius", radius, minimum=0.0, strict_min=True)

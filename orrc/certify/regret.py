@@ -20,7 +20,7 @@ import numpy as np
 from .._validate import as_int
 from ..controllers.baselines import LQR
 from ..solvers.condensed import Condensed, condensed
-from .attenuation import _linear_loop, _operators, _top_singular
+from ._loop import _linear_loop, _operators, _top_singular
 
 __all__ = ["Regret", "worst_case_regret"]
 

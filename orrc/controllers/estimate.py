@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import OrrcValueError, as_array, as_bool, as_int
-from .._problem import check_problem
+from .._problem import check_cost
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..parametric import LinearParametricSystem, ParametricSystem
 from .base import Controller, Decision, Observation
@@ -103,7 +103,7 @@ class EstimateThenControl(Controller):
         if not isinstance(model, (ParametricSystem, EDMD)):
             raise OrrcValueError(f"model must be an orrc.ParametricSystem (θ unknown) or an orrc.estimation.EDMD "
                                  f"(a dictionary); got {type(model).__name__}")
-        check_problem(None, cost)
+        check_cost(cost)
         self.model, self.cost = model, cost
         self.edmd = isinstance(model, EDMD)
         n = model.n

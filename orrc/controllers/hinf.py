@@ -13,9 +13,11 @@ augmented with the preview buffer, ξ_t = [x_t; w_t; ...; w_{t+k-1}]:
 
 with Ā = [[A, I, 0..], [0, 0, I, ..], ..., [0 ... 0]], B̄ = [B; 0], Ē = [0; ...; I] and the
 cost weight diag(Q, 0). Its optimal level is the best attenuation achievable with k steps of
-preview (over every causal controller that sees k disturbances ahead: full information makes
-a static feedback on ξ optimal), and the controller is u_t = −K x_t − L vec(w_t..w_{t+k-1}),
-the same form as Algorithm 1's LQ law (:class:`~orrc.PreviewRHC`).
+preview, among the causal controllers whose u_t uses x_0..x_t and the previewed w_t..w_{t+k-1}
+(that is, the state ξ_0..ξ_t; the next disturbance v_t = w_{t+k} is unseen): state feedback on
+ξ, for which a static feedback is optimal. It is not a full-information level (which would let
+u_t use v_t too). The controller is u_t = −K x_t − L vec(w_t..w_{t+k-1}), the same form as
+Algorithm 1's LQ law (:class:`~orrc.PreviewRHC`).
 """
 from __future__ import annotations
 
@@ -67,7 +69,8 @@ class HInfinity(Controller):
     system : a :class:`~orrc.LinearSystem` (a :class:`~orrc.NonlinearSystem` is replaced by its
         linearisation at the origin, as :class:`~orrc.LQR` does).
     cost : the :class:`~orrc.QuadraticCost` whose stage cost is the output's energy.
-    gamma : the level, or None (default) for the optimal level, found by bisection on the game
+    gamma : the level, or None (default) for the optimal level (the best among controllers that use
+        the state and the k previewed disturbances, see the module docstring), found by bisection on the game
         Riccati equation (:func:`orrc.solvers.game.optimal_game_level`, certified feasible, with an
         error bound ``gamma_opt_error``: γ* lies in [gamma_opt − gamma_opt_error, gamma_opt]); the
         controller is then built at ``gamma_opt·(1 + 1e-5)`` (or ``gamma_opt + 2·gamma_opt_error`` if

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import OrrcValueError, as_array
-from .._problem import check_problem
+from .._problem import check_cost
 from ..costs import Cost, QuadraticCost, StageCost
 from .base import Controller, Decision, Observation
 from .preview import PreviewRHC
@@ -48,7 +48,7 @@ class LiftedRHC(Controller):
             if not hasattr(model, attr):
                 raise OrrcValueError(f"model must be a lifted linear model (orrc.estimation.EDMDModel); it has no "
                                      f"{attr!r}")
-        check_problem(None, cost)
+        check_cost(cost)
         n = model.C.shape[0]
         cost.check_dims(n, model.B.shape[1])
         self.model, self.cost = model, cost

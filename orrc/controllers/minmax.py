@@ -169,7 +169,8 @@ class MinMaxRHC(Controller):
         if warm_start is None:
             return
         if not isinstance(warm_start, MinMaxPlan):
-            raise OrrcValueError(f"warm_start must be a MinMaxPlan from MinMaxRHC.plan; got {type(warm_start).__name__}")
+            raise OrrcValueError(f"warm_start must be a MinMaxPlan from MinMaxRHC.plan; got "
+                                 f"{type(warm_start).__name__}")
         M, n, m = self.M, self.system.n, self.system.m
         as_array("warm_start.inputs", warm_start.inputs, (M, m))
         if warm_start.worst_w is not None:

@@ -205,8 +205,8 @@ class EDMDModel(Estimate):
             raise OrrcValueError(f"U must have shape (h, {m}); got shape {U.shape}")
         if W is not None:
             W = as_array("W", W, (len(U), n))
-        check_size(f"EDMDModel.predict over h={len(U)} steps (K={self.K} features)", nbytes=3 * 8.0 * (len(U) + 1) * (self.K + n),
-                   ops=len(U) * (2.0 * self.K * (self.K + m + n) + 3 * PY_CALL_OPS), hint="shorten U")
+        check_size(f"EDMDModel.predict over h={len(U)} steps (K={self.K} features)",
+                   nbytes=3 * 8.0 * (len(U) + 1) * (self.K + n), ops=len(U) * (2.0 * self.K * (self.K + m + n) + 3 * PY_CALL_OPS), hint="shorten U")
         with np.errstate(over="ignore", invalid="ignore"):
             X = _lifted_rollout(self, self.lift(x0)[None, :], U[None], None if W is None else W[None])[0] @ self.C.T
         bad = ~np.all(np.isfinite(X), axis=1)

@@ -23,8 +23,8 @@ condition of the saddle point at every stage.
   algebraic Riccati equation (``scipy.linalg.solve_discrete_are`` with the indefinite weight
   diag(R, −γI));
 * :func:`optimal_game_level` -- the smallest γ at which :func:`stationary_game` has a solution
-  (bisection): the squared H∞ norm of the optimal state-feedback closed loop from w to
-  [Q^½x; R^½u], with an error bound.
+  (bisection): the squared H∞ norm of the optimal (strictly causal) state-feedback closed loop
+  from w to [Q^½x; R^½u], with an error bound.
 
 Decisions follow the problem's conditioning, not fixed thresholds: a computed Riccati solution
 counts only when an a-posteriori bound (``orrc.solvers._game_bounds``: the residual, ‖L⁻¹‖ of the
@@ -292,7 +292,8 @@ def stationary_game(A, B, Q, R, gamma, E=None) -> GameSolution:
         if gamma <= level:
             raise OrrcValueError(
                 f"gamma = {gamma:.9g} is not above the optimal level {level:.9g} (within {error:.2g}) of the "
-                f"stationary game ({cert.reason}); no stabilising controller attains a level below it: "
+                f"stationary game ({cert.reason}); no stabilising state-feedback controller (u_t from x_0..x_t) "
+                f"attains a level below it: "
                 f"use gamma > {level:.9g}")
         raise OrrcValueError(
             f"gamma = {gamma:.9g} is too close to the optimal level {level:.9g} of the stationary game for the "
@@ -306,8 +307,12 @@ def optimal_game_level(A, B, Q, R, tol: float = 1e-9, E=None, with_error: bool =
     """The smallest γ for which :func:`stationary_game` has a solution, by bisection to relative ``tol``.
 
     It equals the squared H∞ norm of the optimal state-feedback closed loop from w to
-    [Q^½x; R^½u] (full-information H∞ control: a static state feedback is optimal among all
-    causal controllers). Each step of the bisection solves the game ARE by structured doubling
+    [Q^½x; R^½u]: the best level among the strictly causal controllers that measure the state,
+    u_t a function of x_0..x_t (and of the past inputs), never of w_t; among those a static state
+    feedback u = −Kx is optimal (Başar and Bernhard 1995, Theorem 3.7). It is not the
+    full-information level: in discrete time a controller that also sees w_t when it chooses u_t
+    can do better (with preview, :class:`orrc.HInfinity` plays this game on the state augmented
+    with the previewed w's). Each step of the bisection solves the game ARE by structured doubling
     (numpy) and decides with the certificate of :func:`stationary_game`, so the returned level γ̂
     is certified feasible: γ* <= γ̂, whatever BLAS kernel ran.
 

@@ -38,19 +38,22 @@ import math
 import numpy as np
 
 from .._validate import OrrcValueError, as_float, as_int, finite_result
-from .known import _M, _a_min, _above, _alphas, _decay, _gamma_bar, _require_threshold
+from ._setting import _M, _a_min, _above, _alphas, _decay, _gamma_bar, _require_threshold
 
 __all__ = ["Gamma_WV", "Gamma_WV_gamma", "horizon_threshold_W", "min_decay_rate_W", "decay_b_W", "gamma_c_W",
            "theorem3_constant"]
 
 
-def _constants_W(alpha_lo, alpha_hi_W, gamma_bar_W=None):
+_NO_GAMMA = object()
+
+
+def _constants_W(alpha_lo, alpha_hi_W, gamma_bar_W=_NO_GAMMA):
     """The checked (α_lo, ᾱ_W[, γ̄_W]); the messages name the no-preview constants."""
     try:
         alpha_lo, alpha_hi_W = _alphas(alpha_lo, alpha_hi_W)
     except OrrcValueError as exc:
         raise OrrcValueError(str(exc).replace("alpha_hi", "alpha_hi_W")) from None
-    if gamma_bar_W is None:
+    if gamma_bar_W is _NO_GAMMA:
         return alpha_lo, alpha_hi_W
     try:
         return alpha_lo, alpha_hi_W, _gamma_bar(gamma_bar_W)

@@ -26,7 +26,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int, finite_result
+from .._validate import OrrcValueError, as_array, as_float, as_int, finite_result
 from . import known
 
 __all__ = ["alpha_f_tilde", "Gamma_V_theta", "lemma4_bound", "lemma5_c", "lemma5_M_theta", "lemma5_bound",
@@ -178,9 +178,11 @@ def theorem2_constant(estimation_costs, w, sigma_N, theta_error, T, N, M, a, alp
     if Ts.min() <= N:
         raise OrrcValueError(f"Theorem 2 needs a control phase: N < T; got N={N}, T={int(Ts.min())}")
     T_max = int(Ts.max())
-    ce = np.asarray(estimation_costs, dtype=float)
-    if ce.shape != (N,) or not np.all(np.isfinite(ce)):
+    M = known._M(M)
+    ce = as_array("estimation_costs", estimation_costs)
+    if ce.shape != (N,):
         raise OrrcValueError(f"estimation_costs must be N = {N} finite stage costs c_0..c_(N-1); got shape {ce.shape}")
+    sigma_N = _nonneg("sigma_N", sigma_N)
     e = known._energies("w", w)
     if len(e) < max(T_max + M - 2, N + M):
         raise OrrcValueError(f"w must hold the disturbances w_0..w_(T+M-3) (with the preview tail); got {len(e)} rows")
