@@ -83,6 +83,8 @@ CASES = [
          "N=1000000000", "too large"),
     case("MinMaxRHC-game-M-too-large", lambda: orrc.MinMaxRHC(SYS, QC, BIG, W1, method="game", gamma=50.0),
          "M=1000000000", "too large"),
+    case("MinMaxRHC-exchange-M-too-large", lambda: orrc.MinMaxRHC(SYS, QC, 10 ** 7, W1, method="exchange"),
+         "M=10000000", "too large"),
     case("finite_horizon_game-M-too-large", lambda: game.finite_horizon_game([[1.2]], [[1.0]], [[1.0]], [[1.0]], 50.0,
                                                                              BIG),
          "M=1000000000", "too large"),

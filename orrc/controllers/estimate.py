@@ -32,9 +32,8 @@ class Excitation(Controller):
             raise OrrcValueError(f"excitation must have shape (T, m); got shape {excitation.shape}")
         self.excitation = excitation
         self.m = excitation.shape[1]
-        self.gain = None if gain is None else as_array("gain", gain, (self.m, n) if n is not None else None)
-        if self.gain is not None and self.gain.ndim != 2:
-            raise OrrcValueError(f"gain must have shape (m, n); got shape {self.gain.shape}")
+        self.gain = None if gain is None else as_array("gain", gain, (self.m, n))
+        self.n = None if self.gain is None else self.gain.shape[1]     # checked against the system by simulate
         self.input_bounds = _bounds("input_bounds", input_bounds, self.m)
         self.cost = cost
 
