@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import theory
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import OrrcValueError, as_float, as_int, check_size
 from .._problem import check_problem
 from ..costs import QuadraticCost, StageCost
 from ..disturbances import Box, _rng
@@ -174,6 +174,11 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
     if cost.alpha_lo is None:
         raise OrrcValueError("the cost must declare alpha_lo (c(x, u) >= alpha_lo σ(x)) for the constants of Lemma 6")
     alpha_lo = float(cost.alpha_lo)
+    # n_samples min-max solves (about a millisecond per stage each), then the curve at grid points over the samples
+    check_size(f"minmax_constants with n_samples={n_samples}, grid={grid} at M={M} (n={system.n})",
+               nbytes=8.0 * (4 * n_samples * system.n + 8 * grid),
+               ops=1e6 * n_samples * M + 1e3 * grid * (n_samples + 1),
+               hint="lower n_samples or grid")
     rng = _rng(seed)
     certified = isinstance(system, LinearSystem) and isinstance(cost, QuadraticCost) and input_bounds is None
     rhc_method = "exact" if (certified and isinstance(W, Box) and vertex_count(W, M) <= EXACT_LIMIT) else "auto"

@@ -7,6 +7,7 @@ from .._validate import OrrcValueError, as_array, as_bool, as_int
 from .._problem import check_cost
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..parametric import LinearParametricSystem, ParametricSystem
+from ..solvers.lq import lq_law_size
 from .base import Controller, Decision, Observation
 from .lifted import LiftedRHC
 from .preview import PreviewRHC, _bounds
@@ -159,6 +160,8 @@ class EstimateThenControl(Controller):
         self._lq = isinstance(model, LinearParametricSystem) and (
             (isinstance(cost, QuadraticCost) and self.input_bounds is None) or isinstance(cost, L1Cost))
         self._rhc = None
+        if self._lq and isinstance(cost, QuadraticCost):   # the law is built at t = N: its size is checked now
+            lq_law_size(self.M, n, m, who="EstimateThenControl's control phase (the exact LQ preview law)")
         if not self.edmd and not self._lq:
             theta0 = np.zeros(model.n_params) if theta0 is None else model.check_theta(theta0, "theta0")
             self._rhc = PreviewRHC(model, cost, self.M, input_bounds=input_bounds, solver_options=solver_options,

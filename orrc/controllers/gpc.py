@@ -58,7 +58,8 @@ def strong_stability(A_cl) -> tuple[float, float]:
     A_cl = as_square("A_cl", A_cl)
     rho = float(np.max(np.abs(np.linalg.eigvals(A_cl))))
     if rho >= 1.0:
-        raise OrrcValueError(f"the closed loop must be stable for a strong-stability certificate; ρ = {rho:.6g}")
+        raise OrrcValueError(f"A_cl must be Schur stable (the closed loop) for a strong-stability certificate; its "
+                             f"spectral radius is ρ = {rho:.6g}")
     decay = 0.5 * (1.0 + rho)
     P = linalg.solve_discrete_lyapunov(A_cl.T / decay, np.eye(A_cl.shape[0]))
     lam = np.linalg.eigvalsh(0.5 * (P + P.T))

@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd, eigvalsh_tol
+from .._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd, check_size, eigvalsh_tol
 from . import _game_bounds as bounds
 from ._game_bounds import EPS
 from .lq import riccati_steps_size
@@ -86,6 +86,9 @@ def _problem(A, B, Q, R, E):
     m = B.shape[1]
     Q = as_square("Q", Q, n)
     R = as_square("R", R, m)
+    # the checks themselves (eigenvalues of Q and R, the stabilisability test) are O(n³)
+    check_size(f"a game of n={n} states (m={m})", nbytes=8.0 * 10 * (n + m) ** 2, ops=60.0 * (n + m) ** 3,
+               hint="the game Riccati equations are O(n³) each")
     check_psd("Q", Q)
     check_psd("R", R, strict=True)
     if E is None:
@@ -118,6 +121,15 @@ def check_stabilisable(A, B, what: str = "(A, B)") -> None:
                     f"{what} is not stabilisable: the mode λ = {complex(lam):.6g} (|λ| = {abs(lam):.6g} >= 1) "
                     "cannot be moved by the input (PBH test: rank [A − λI, B] < n); no controller "
                     "keeps the closed loop bounded")
+
+
+def _are_size(what: str, A, B, E, solves: int) -> None:
+    """:func:`orrc._validate.check_size` for ``solves`` certified game AREs: each a (2n + m + q)-
+    dimensional pencil (Schur or structured doubling, O(N³) with a few dozen N x N work arrays) and its certificate."""
+    n, m, q = A.shape[0], B.shape[1], E.shape[1]
+    N = 2 * n + m + q
+    check_size(f"{what} on a game of n={n} states (m={m}, q={q})", nbytes=8.0 * 40 * N * N,
+               ops=solves * 200.0 * N ** 3, hint="the game Riccati equations are O(n³) each")
 
 
 # -- one stage of the recursion ----------------------------------------------------------------------
@@ -281,6 +293,7 @@ def stationary_game(A, B, Q, R, gamma, E=None) -> GameSolution:
     """
     A, B, Q, R, E = _problem(A, B, Q, R, E)
     gamma = _gamma(gamma)
+    _are_size("stationary_game", A, B, E, solves=4)
     check_stabilisable(A, B)
     cert = _stationary(A, B, E, Q, R, gamma)
     if cert.verdict != "feasible":  # close to the optimal level scipy's Schur method loses accuracy first
@@ -331,6 +344,7 @@ def optimal_game_level(A, B, Q, R, tol: float = 1e-9, E=None, with_error: bool =
     tol = as_float("tol", tol, minimum=0.0, strict_min=True)
     if not isinstance(with_error, (bool, np.bool_)):
         raise OrrcValueError(f"with_error must be True or False; got {with_error!r}")
+    _are_size("optimal_game_level's bisection", A, B, E, solves=100)
     check_stabilisable(A, B)
     nc, nc_error = bounds.noncausal_level(A, B, E, Q, R)
     lower = max(0.0, nc - nc_error)
