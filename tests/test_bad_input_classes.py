@@ -177,6 +177,11 @@ CASES = [
     case("exploration_tradeoff-model-dimension", lambda: exploration_tradeoff(
         SYS, orrc.ParametricSystem.linear(2, 1), QC, 2, np.array([4, 6, 8]), seeds=1, window=10), "model", "n=2"),
 
+    case("L1Cost.value-x-shape", lambda: orrc.L1Cost([1.0, 2.0], [[0.1]]).value([1.0], [0.0]), "x", "shape (2)"),
+    case("L1Cost.value-u-type", lambda: orrc.L1Cost([1.0], [[0.1]]).value([1.0], "u"), "u", "numeric"),
+    case("L1Cost.value-overflow", lambda: orrc.L1Cost([1.0, 1.0], [[0.1]]).value([1e308, 1e308], [0.0]), "l1 cost",
+         "not finite"),
+    case("L1Cost.sigma-x-shape", lambda: orrc.L1Cost([1.0, 2.0], [[0.1]]).sigma([1.0, 2.0, 3.0]), "x", "shape (2)"),
     case("stationary_game-gamma", lambda: game.stationary_game([[1.2]], [[1.0]], [[1.0]], [[1.0]], -1.0), "gamma",
          "> 0"),
     case("optimal_game_level-A-nan", lambda: game.optimal_game_level([[np.nan]], [[1.0]], [[1.0]], [[1.0]]), "A",
