@@ -13,7 +13,22 @@ import traceback
 import warnings
 
 from ._validate import OrrcValueError, _describe
-from .sweep import AUTO_MIN_SAVING, SweepError
+
+#: "auto" starts worker processes only when they save more than this many seconds (the measured cost of a pool
+#: whose forkserver imports orrc, scipy and python-control on a loaded 2-core machine: 1 to 4 s)
+AUTO_MIN_SAVING = 2.0
+
+
+class SweepError(RuntimeError):
+    """``fn`` raised at a grid point of :func:`sweep` (the message names the point and the seed).
+
+    Attributes: ``point`` (the grid point, a dict), ``seed`` (the seed passed, or None), ``row``
+    (the run's index in the table). The original exception is ``__cause__``.
+    """
+
+    def __init__(self, message: str, point=None, seed=None, row=None):
+        super().__init__(message)
+        self.point, self.seed, self.row = point, seed, row
 
 
 _LOADED: dict = {}     # payload digest -> fn, in a worker process

@@ -23,7 +23,9 @@ import functools
 import inspect
 import math
 import numbers
+import os
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -108,6 +110,14 @@ def as_int(name: str, value, minimum: int | None = None, maximum: int | None = N
     return value
 
 
+def as_bool(name: str, value) -> bool:
+    """A truth value given as ``True`` or ``False`` (a Python or numpy bool), never coerced: ``bool("no")``
+    is True, so a string, a number or None is refused."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise OrrcValueError(f"{name} must be True or False; got {_describe(value)}")
+    return bool(value)
+
+
 def as_float(name: str, value, *, minimum: float | None = None, maximum: float | None = None,
              strict_min: bool = False, strict_max: bool = False, allow_inf: bool = False) -> float:
     """A real number (not a bool, not complex), finite unless ``allow_inf``, within the bounds."""
@@ -184,36 +194,6 @@ def check_psd(name: str, mat: np.ndarray, *, strict: bool = False, tol: float | 
         raise OrrcValueError(f"{name} must be positive semidefinite; its smallest eigenvalue is {lo:.3g}{where}")
 
 
-def check_problem(system, cost, *, linear: bool = False, quadratic: bool = False, who: str = "",
-                  why_linear: str = "", why_quadratic: str = "") -> None:
-    """The (system, cost) pair a controller or certificate starts from (the problem of Section 2).
-
-    ``system`` must be an orrc system (a :class:`~orrc.LinearSystem` when ``linear``; ``None``
-    skips it), ``cost`` an orrc stage cost (a :class:`~orrc.QuadraticCost` when ``quadratic``)
-    whose dimensions match the system's (n, m). ``who`` names the caller that needs the
-    narrower type and ``why_*`` says why, e.g. ``who="GPC", why_linear=": it recovers w_t ..."``.
-    Raises :class:`OrrcValueError` naming the argument, the type given and the type allowed.
-    """
-    from .costs import QuadraticCost, StageCost
-    from .systems import LinearSystem, System
-
-    def needs(arg: str, kind: str) -> str:
-        return f"{arg}: {who} needs a {kind}" if who else f"{arg} must be an orrc {kind}"
-
-    if system is not None:
-        if linear and not isinstance(system, LinearSystem):
-            raise OrrcValueError(f"{needs('system', 'LinearSystem')}{why_linear}; got {type(system).__name__}")
-        if not isinstance(system, System):
-            raise OrrcValueError(f"system must be an orrc LinearSystem or NonlinearSystem; got {type(system).__name__}")
-    if quadratic and not isinstance(cost, QuadraticCost):
-        raise OrrcValueError(f"{needs('cost', 'QuadraticCost')}{why_quadratic}; got {type(cost).__name__}")
-    if not isinstance(cost, StageCost):
-        raise OrrcValueError(f"cost must be an orrc stage cost (QuadraticCost, L1Cost, Cost); got "
-                             f"{type(cost).__name__}")
-    if system is not None:
-        cost.check_dims(system.n, system.m)
-
-
 def check_options(name: str, given: dict, allowed) -> None:
     unknown = sorted(set(given) - set(allowed))
     if unknown:
@@ -245,6 +225,56 @@ def check_evaluates(name: str, what: str, evaluate, n: int, m: int) -> None:
 
 
 # -- size guards ------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Limits:
+    """The size limits of one computation (documented in :mod:`orrc.config`, which sets them).
+
+    max_bytes, max_ops : refuse (``OrrcValueError``) above these estimates.
+    warn_bytes, warn_ops : warn (``orrc.SizeWarning``) above these.
+    """
+
+    max_bytes: float = 4 * 2 ** 30
+    max_ops: float = 1e11
+    warn_bytes: float = 2 ** 30
+    warn_ops: float = 1e10
+
+
+_LIMITS_ENV = {"max_bytes": "ORRC_MAX_BYTES", "max_ops": "ORRC_MAX_OPS", "warn_bytes": "ORRC_WARN_BYTES",
+               "warn_ops": "ORRC_WARN_OPS"}
+_limits: Limits | None = None
+
+
+def limit_value(name: str, value) -> float:
+    """One limit: a positive number of bytes or operations (``math.inf`` switches it off)."""
+    return as_float(name, value, minimum=0.0, strict_min=True, allow_inf=True)
+
+
+def get_limits() -> Limits:
+    """The limits in force: read from the environment variables ``ORRC_MAX_BYTES``, ``ORRC_MAX_OPS``,
+    ``ORRC_WARN_BYTES``, ``ORRC_WARN_OPS`` on first use, then as :func:`orrc.config.set_limits` sets them."""
+    global _limits
+    if _limits is None:
+        values = {}
+        for field, var in _LIMITS_ENV.items():
+            text = os.environ.get(var, "").strip()
+            if text:
+                try:
+                    values[field] = limit_value(var, float(text))
+                except ValueError as exc:
+                    raise OrrcValueError(f"the environment variable {var} must be a positive number (bytes or "
+                                         f"operations, or inf); got {text!r}") from exc
+        _limits = Limits(**values)
+    return _limits
+
+
+def use_limits(new: Limits) -> Limits:
+    """Put ``new`` in force (the mechanism of :func:`orrc.config.set_limits`); returns the previous limits."""
+    global _limits
+    previous = get_limits()
+    _limits = new
+    return previous
+
+
 #: The nominal speed behind the time estimates: elementary floating-point operations per second.
 OPS_PER_SECOND = 1e9
 #: The cost of one numpy call on small arrays inside a Python loop, in operations (about 4 µs).
@@ -288,8 +318,6 @@ def check_size(what: str, *, nbytes: float = 0.0, ops: float = 0.0, hint: str = 
     Estimates may be rough (within a small factor); they exist to stop a 29 TiB allocation or
     an hour-long loop before it starts, not to time anything.
     """
-    from .config import get_limits
-
     lim = get_limits()
     nbytes, ops = float(nbytes), float(ops)
     advice = f" {hint[:1].upper()}{hint[1:]}." if hint else ""
@@ -315,6 +343,8 @@ def _all_finite(out) -> bool:
         return True
     if isinstance(out, (int, float)):
         return math.isfinite(out)
+    if isinstance(out, tuple):     # a record of results (e.g. a NamedTuple of bounds)
+        return all(_all_finite(v) for v in out)
     return bool(np.all(np.isfinite(out)))
 
 

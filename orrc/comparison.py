@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import OrrcValueError, as_float, as_int
+from ._validate import OrrcValueError, as_array, as_bool, as_float, as_int
+from ._problem import check_problem
 
 __all__ = ["ComparisonRow", "compare", "PreviewValue", "preview_value"]
 
@@ -53,7 +54,9 @@ def compare(system, cost, controllers: dict, w, T: int, gamma: float, x0=None, w
             raise OrrcValueError(f"controllers[{k!r}] must be an orrc Controller; got {type(c).__name__}")
     T = as_int("T", T, minimum=1)
     gamma = as_float("gamma", gamma, minimum=0.0)
-    x0 = np.zeros(system.n) if x0 is None else np.asarray(x0, float)
+    check_problem(system, cost)
+    worst_case = as_bool("worst_case", worst_case)
+    x0 = np.zeros(system.n) if x0 is None else as_array("x0", x0, (system.n,))
     clair = simulate(system, Clairvoyant(system, cost, T, **(clairvoyant_kwargs or {})), x0, w, T)
     rows = []
     for label, ctrl in {**controllers, "clairvoyant optimum": None}.items():
@@ -93,10 +96,14 @@ def preview_value(system, cost, M: int, ks, w, T: int, x0=None, fit_above: float
     from .simulate import simulate
 
     M = as_int("M", M, minimum=1)
-    ks = np.array([as_int("ks[i]", int(k), minimum=0) for k in ks])
+    if isinstance(ks, (str, bytes)) or not hasattr(ks, "__iter__"):
+        raise OrrcValueError(f"ks must be a list of preview lengths (integers); got {ks!r}")
+    ks = np.array([as_int(f"ks[{i}]", k, minimum=0) for i, k in enumerate(ks)], dtype=int)
     if ks.size < 3 or ks.max() > M:
         raise OrrcValueError(f"ks must hold at least 3 preview lengths between 0 and M = {M}; got {list(ks)}")
-    x0 = np.zeros(system.n) if x0 is None else np.asarray(x0, float)
+    check_problem(system, cost)
+    x0 = np.zeros(system.n) if x0 is None else as_array("x0", x0, (system.n,))
+    fit_above = as_float("fit_above", fit_above, minimum=0.0)
     clair = simulate(system, Clairvoyant(system, cost, T), x0, w, T).costs.sum()
 
     def regret(k):

@@ -21,7 +21,9 @@ from __future__ import annotations
 
 import contextlib
 import os
-from dataclasses import dataclass, fields, replace
+from dataclasses import fields, replace
+
+from . import _validate
 
 
 def quick() -> bool:
@@ -43,69 +45,18 @@ def book_build() -> bool:
     return os.environ.get("ORRC_BOOK_BUILD", "").strip().lower() in ("1", "true", "yes")
 
 
-@dataclass(frozen=True)
-class Limits:
-    """The size limits of one computation (see the module docstring).
-
-    max_bytes, max_ops : refuse (``OrrcValueError``) above these estimates.
-    warn_bytes, warn_ops : warn (``orrc.SizeWarning``) above these.
-    """
-
-    max_bytes: float = 4 * 2 ** 30
-    max_ops: float = 1e11
-    warn_bytes: float = 2 ** 30
-    warn_ops: float = 1e10
-
-
-_ENV = {"max_bytes": "ORRC_MAX_BYTES", "max_ops": "ORRC_MAX_OPS", "warn_bytes": "ORRC_WARN_BYTES",
-        "warn_ops": "ORRC_WARN_OPS"}
-
-
-def _checked(name: str, value) -> float:
-    from ._validate import as_float
-
-    return as_float(name, value, minimum=0.0, strict_min=True, allow_inf=True)
-
-
-def _from_environment() -> Limits:
-    from ._validate import OrrcValueError
-
-    values = {}
-    for field, var in _ENV.items():
-        text = os.environ.get(var, "").strip()
-        if text:
-            try:
-                values[field] = _checked(var, float(text))
-            except ValueError as exc:
-                raise OrrcValueError(f"the environment variable {var} must be a positive number (bytes or "
-                                     f"operations, or inf); got {text!r}") from exc
-    return Limits(**values)
-
-
-_current: Limits | None = None
-
-
-def get_limits() -> Limits:
-    """The limits in force (read from the environment on first use, then as set)."""
-    global _current
-    if _current is None:
-        _current = _from_environment()
-    return _current
+Limits = _validate.Limits          # the record and the limits in force live where check_size reads them
+get_limits = _validate.get_limits
 
 
 def set_limits(**changes) -> Limits:
     """Change some limits for the rest of the session (keywords: the fields of :class:`Limits`);
     returns the previous limits, so ``set_limits(**vars(previous))`` restores them."""
-    global _current
-    from ._validate import check_options
-
-    check_options("limit", changes, [f.name for f in fields(Limits)])
-    previous = get_limits()
-    new = replace(previous, **{k: _checked(k, v) for k, v in changes.items()})
+    _validate.check_options("limit", changes, [f.name for f in fields(Limits)])
+    new = replace(get_limits(), **{k: _validate.limit_value(k, v) for k, v in changes.items()})
     if new.warn_bytes > new.max_bytes or new.warn_ops > new.max_ops:  # a warning threshold above its limit
         new = replace(new, warn_bytes=min(new.warn_bytes, new.max_bytes), warn_ops=min(new.warn_ops, new.max_ops))
-    _current = new
-    return previous
+    return _validate.use_limits(new)
 
 
 @contextlib.contextmanager
@@ -118,8 +69,7 @@ def limits(**changes):
     try:
         yield get_limits()
     finally:
-        global _current
-        _current = previous
+        _validate.use_limits(previous)
 
 
 __all__ = ["quick", "size", "book_build", "Limits", "get_limits", "set_limits", "limits"]

@@ -31,6 +31,12 @@ def _norm_sq(x) -> float:
     return float(x @ x)
 
 
+def psd_factor(S: np.ndarray) -> np.ndarray:
+    """A matrix F with FᵀF = S for a symmetric PSD S (a weight's square root: xᵀQx = ‖Fx‖²)."""
+    lam, V = np.linalg.eigh(0.5 * (S + S.T))
+    return np.sqrt(np.clip(lam, 0.0, None))[:, None] * V.T
+
+
 def _name(name) -> str:
     if not isinstance(name, str):
         raise OrrcValueError(f"name must be a string; got {type(name).__name__}")
@@ -337,12 +343,14 @@ class L1Cost(StageCost):
     def expr(self, x, u, p=None):
         return ca.dot(ca.DM(self.q), ca.fabs(x)) + ca.bilin(ca.DM(self.R), u, u)
 
-    def value(self, x, u, p=None) -> float:
-        x, u = np.asarray(x, dtype=float), np.asarray(u, dtype=float)
+    def _value(self, x, u, p=None) -> float:
         return float(self.q @ np.abs(x) + u @ self.R @ u)
 
     def sigma(self, x) -> float:
-        return float(np.sum(np.abs(np.asarray(x, dtype=float))))
+        """σ(x) = ‖x‖₁ (x checked; a sum past the float range is inf, which ``orrc.simulate`` reports
+        with a NonFiniteWarning, as it does an overflowed ‖x‖² of the other costs)."""
+        with np.errstate(over="ignore"):
+            return float(np.sum(np.abs(as_array("x", x, (self.n,)))))
 
     def __repr__(self):
         return f"L1Cost(n={self.n}, m={self.m}, alpha_lo={self.alpha_lo:.4g})"

@@ -41,6 +41,7 @@ error is not a terminal outside a kernel (tests, scripts piped to a file).
 """
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import numbers
@@ -49,32 +50,19 @@ import time
 
 import numpy as np
 
+from . import _sweep_run as run
 from ._progress import watched
+from ._sweep_run import AUTO_MIN_SAVING, SweepError  # noqa: F401  (re-exported: orrc.SweepError)
 from ._validate import OrrcValueError, _describe, as_float, as_int, check_size
 
 __all__ = ["sweep", "Table", "SweepError", "BACKENDS"]
 
 BACKENDS = ("auto", "serial", "processes", "dask")
-#: "auto" starts worker processes only when they save more than this many seconds (the measured cost of a pool
-#: whose forkserver imports orrc, scipy and python-control on a loaded 2-core machine: 1 to 4 s)
-AUTO_MIN_SAVING = 2.0
 #: the default estimate of one call of ``fn`` (about 1 ms at 1e9 operations/s: a short closed loop)
 CALL_OPS = 1e6
 #: bytes of one row of the table per column (a dict entry and a small Python object)
 _CELL_BYTES = 200.0
 _ON_ERROR = ("raise", "record")
-
-
-class SweepError(RuntimeError):
-    """``fn`` raised at a grid point of :func:`sweep` (the message names the point and the seed).
-
-    Attributes: ``point`` (the grid point, a dict), ``seed`` (the seed passed, or None), ``row``
-    (the run's index in the table). The original exception is ``__cause__``.
-    """
-
-    def __init__(self, message: str, point=None, seed=None, row=None):
-        super().__init__(message)
-        self.point, self.seed, self.row = point, seed, row
 
 
 class Table(list):
@@ -177,18 +165,24 @@ def _points(grid, names) -> list[dict]:
 
 
 def _seed_plan(seeds, seed, common_seeds: bool, n_points: int):
-    """(k, seeds_of(i)): the seeds of grid point i (a list of k ints), or (1, None) for no seeds."""
+    """(k, seeds_of(i)): the seeds of grid point i (a list of k ints), or (1, None) for no seeds.
+
+    Nothing is drawn here (the grid's size is checked first, with k): ``seeds_of`` derives the seeds
+    of point i when asked, from the child i of ``SeedSequence(seed)`` (``spawn_key=(i,)``, the same
+    child as the i-th of ``SeedSequence(seed).spawn(n_points)``)."""
     if seeds is None:
         return 1, None
     root = as_int("seed", seed, minimum=0)
     if isinstance(seeds, numbers.Integral) and not isinstance(seeds, bool):
         k = as_int("seeds", seeds, minimum=1)
-        as_int_seed = lambda ss: int(ss.generate_state(1, np.uint64)[0] >> np.uint64(1))  # noqa: E731
+
+        def draw(ss):
+            return [int(c.generate_state(1, np.uint64)[0] >> np.uint64(1)) for c in ss.spawn(k)]
+
         if common_seeds:
-            shared = [as_int_seed(c) for c in np.random.SeedSequence(root).spawn(k)]
-            return k, lambda i: shared
-        per_point = np.random.SeedSequence(root).spawn(n_points)
-        return k, lambda i: [as_int_seed(c) for c in per_point[i].spawn(k)]
+            shared = functools.cache(lambda: draw(np.random.SeedSequence(root)))
+            return k, lambda i: shared()
+        return k, lambda i: draw(np.random.SeedSequence(root, spawn_key=(i,)))
     if isinstance(seeds, (list, tuple, np.ndarray)) and len(seeds) > 0:
         given = [as_int(f"seeds[{j}]", s.item() if isinstance(s, np.generic) else s, minimum=0)
                  for j, s in enumerate(seeds)]
@@ -229,8 +223,6 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
 
     A grid of one run, and ``workers=1``, run in this process (the same results, without a pool).
     """
-    from . import _sweep_run as run
-
     if not callable(fn):
         raise OrrcValueError(f"fn must be callable fn(**point, seed=...); got {_describe(fn)}")
     names, n_points = _grid_size(grid)

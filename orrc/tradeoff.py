@@ -33,7 +33,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validate import OrrcValueError, as_array, as_float, as_int, check_size
+from ._validate import OrrcValueError, as_array, as_bool, as_float, as_int, check_size
+from ._problem import check_problem
+from .estimation.edmd import EDMD
+from .parametric import ParametricSystem
 
 __all__ = ["Tradeoff", "exploration_tradeoff"]
 
@@ -97,7 +100,7 @@ class Tradeoff:
         Ts = np.atleast_1d(as_array("Ts", Ts))
         if np.any(Ts < 1):
             raise OrrcValueError(f"Ts must be >= 1; got minimum {Ts.min()}")
-        if not fitted:
+        if not as_bool("fitted", fitted):
             return np.array([self.Ns[int(np.argmin(self.excess(T)))] for T in Ts], dtype=float)
         grid = np.geomspace(self.Ns[0], self.Ns[-1], 2000)
         return np.array([grid[int(np.argmin(self.fitted_excess(grid, T)))] for T in Ts])
@@ -161,6 +164,10 @@ def exploration_tradeoff(system, model, cost, M: int, Ns, seeds: int = 10, windo
         raise OrrcValueError(f"burn_in must be < window = {window}; got {burn_in}")
     amp = as_float("excitation_amplitude", excitation_amplitude, minimum=0.0, strict_min=True)
     w_radius = as_float("w_radius", w_radius, minimum=0.0, strict_min=True)
+    _check_models(system, model, cost)
+    use_w = as_bool("use_w", use_w)
+    if theta_true is not None and not isinstance(model, EDMD):
+        theta_true = model.check_theta(theta_true, "theta_true")
     x0 = np.zeros(system.n) if x0 is None else as_array("x0", x0, (system.n,))
     steps = seeds * (int(Ns.sum()) + Ns.size * window + int(Ns[-1]) + window)
     check_size(f"exploration_tradeoff with seeds={seeds}, window={window}, N up to {int(Ns[-1])}: {steps} simulated steps",
@@ -176,6 +183,18 @@ def exploration_tradeoff(system, model, cost, M: int, Ns, seeds: int = 10, windo
                    c0=float(np.mean(c0s)), window=window, burn_in=burn_in)
     out.fit = _fit(out)
     return out
+
+
+def _check_models(system, model, cost) -> None:
+    """The problem checked here, before the sweep (in its workers an error would arrive wrapped in a
+    SweepError): the true system, the controller's model of it and the cost, of matching dimensions."""
+    check_problem(system, cost)
+    if not isinstance(model, (ParametricSystem, EDMD)):
+        raise OrrcValueError(f"model must be an orrc.ParametricSystem (θ unknown) or an orrc.estimation.EDMD; got "
+                             f"{type(model).__name__}")
+    if model.n != system.n or (isinstance(model, ParametricSystem) and model.m != system.m):
+        raise OrrcValueError(f"model must have the dimensions of system (n={system.n}, m={system.m}); got "
+                             f"n={model.n}" + (f", m={model.m}" if isinstance(model, ParametricSystem) else ""))
 
 
 def _one_seed(s, system, model, cost, M, Ns, window, burn_in, amp, w_radius, use_w, theta_true, x0, input_bounds,

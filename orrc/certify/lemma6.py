@@ -43,7 +43,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import PY_CALL_OPS, OrrcValueError, SizeWarning, _describe, as_float, as_int, check_problem, check_size
+from .._validate import PY_CALL_OPS, OrrcValueError, SizeWarning, _describe, as_float, as_int, check_size
+from .._problem import check_problem
 from ..controllers.minmax import MinMaxRHC
 from ..costs import QuadraticCost
 from ..disturbances import Box, _rng

@@ -32,7 +32,8 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int, check_size, check_problem
+from .._validate import OrrcValueError, as_array, as_float, as_int, as_seed, check_size
+from .._problem import check_cost, check_problem
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem
 
@@ -157,7 +158,7 @@ def _box_points(theta: np.ndarray, radius: float, points, grid: int, seed) -> np
     if isinstance(points, str):
         axes = [np.linspace(-radius, radius, grid) if grid > 1 else np.zeros(1)] * p
         return theta + np.array(list(itertools.product(*axes)))
-    rng = np.random.default_rng(seed)
+    rng = as_seed("seed", seed)
     return np.vstack([theta, theta + radius * rng.uniform(-1.0, 1.0, (points, p))])
 
 
@@ -191,6 +192,7 @@ def lq_lipschitz(system: LinearSystem, cost: QuadraticCost, M: int, radius: floa
     rho = as_float("rho", rho, minimum=0.0, strict_min=True)
     x_radius = rho if x_radius is None else as_float("x_radius", x_radius, minimum=0.0, strict_min=True)
     grid = as_int("grid", grid, minimum=1)
+    as_seed("seed", seed)
     n, m = system.n, system.m
     theta = np.hstack([system.A, system.B]).ravel()
     p, K = theta.size, n + M * n
@@ -244,16 +246,16 @@ def sampled_lipschitz(model, cost: StageCost, M: int, theta, radius: float, n_sa
 
     if not isinstance(model, ParametricSystem):
         raise OrrcValueError(f"model must be an orrc.ParametricSystem; got {type(model).__name__}")
-    check_problem(None, cost)
+    check_cost(cost)
     M = as_int("M", M, minimum=1)
     theta = model.check_theta(theta)
     radius = as_float("radius", radius, minimum=0.0, strict_min=True)
     n_samples = as_int("n_samples", n_samples, minimum=1)
+    rng = as_seed("seed", seed)
     check_size(f"sampled_lipschitz with n_samples={n_samples} (two M-step solves each, M={M})",
                ops=2.0 * n_samples * _SOLVE_OPS * max(1, M // 10), hint="lower n_samples")
     x_radius = as_float("x_radius", x_radius, minimum=0.0, strict_min=True)
     w_radius = as_float("w_radius", w_radius, minimum=0.0)
-    rng = np.random.default_rng(seed)
     n, p = model.n, model.n_params
     exact = isinstance(model, LinearParametricSystem)
 

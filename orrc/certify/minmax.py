@@ -43,7 +43,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import theory
-from .._validate import OrrcValueError, as_float, as_int, check_problem
+from .._validate import OrrcValueError, as_array, as_float, as_int, check_finite_result, check_size
+from .._problem import check_problem
 from ..costs import QuadraticCost, StageCost
 from ..disturbances import Box, _rng
 from ..systems import LinearSystem, System
@@ -81,8 +82,14 @@ class MinMaxConstants(Constants):
 
     def bound(self, sigma, w_energy=None):
         """ᾱ_W σ(x) + γ̄_W max‖w‖² (``w_energy`` defaults to ``w_max_sq``); σ a number or an array."""
-        out = self.alpha_hi * np.asarray(sigma, float) + self.gamma_bar * (self.w_max_sq if w_energy is None
-                                                                          else w_energy)
+        sigma = as_array("sigma", sigma)
+        if np.any(sigma < 0):
+            raise OrrcValueError(f"sigma must be >= 0 (σ(x) of Assumption 2); got minimum {float(sigma.min())}")
+        w2 = self.w_max_sq if w_energy is None else as_float("w_energy", w_energy, minimum=0.0)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = self.alpha_hi * sigma + self.gamma_bar * w2
+        check_finite_result("MinMaxConstants.bound", out, f"sigma up to {float(np.max(sigma, initial=0.0)):g}, "
+                            f"w_energy={w2:g}")
         return float(out) if out.ndim == 0 else out
 
     def __repr__(self):
@@ -173,6 +180,11 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
     if cost.alpha_lo is None:
         raise OrrcValueError("the cost must declare alpha_lo (c(x, u) >= alpha_lo σ(x)) for the constants of Lemma 6")
     alpha_lo = float(cost.alpha_lo)
+    # n_samples min-max solves (about a millisecond per stage each), then the curve at grid points over the samples
+    check_size(f"minmax_constants with n_samples={n_samples}, grid={grid} at M={M} (n={system.n})",
+               nbytes=8.0 * (4 * n_samples * system.n + 8 * grid),
+               ops=1e6 * n_samples * M + 1e3 * grid * (n_samples + 1),
+               hint="lower n_samples or grid")
     rng = _rng(seed)
     certified = isinstance(system, LinearSystem) and isinstance(cost, QuadraticCost) and input_bounds is None
     rhc_method = "exact" if (certified and isinstance(W, Box) and vertex_count(W, M) <= EXACT_LIMIT) else "auto"

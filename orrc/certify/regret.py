@@ -20,7 +20,7 @@ import numpy as np
 from .._validate import as_int
 from ..controllers.baselines import LQR
 from ..solvers.condensed import Condensed, condensed
-from .attenuation import _linear_loop, _operators, _top_singular
+from ._loop import _linear_loop, _operators, _top_singular
 
 __all__ = ["Regret", "worst_case_regret"]
 
@@ -59,7 +59,7 @@ def worst_case_regret(system, controller, T: int, cost=None) -> Regret:
     from ..costs import QuadraticCost
 
     K = LQR(system, QuadraticCost(loop.Q, loop.R)).K         # pre-stabilisation (well-conditioned S)
-    c = condensed(system.A, system.B, loop.Q, loop.R, T, K=K)
+    c = condensed(system.A, system.B, loop.Q, loop.R, T, K=K, who="worst_case_regret")
     X, U = _operators(system, loop, T)
     op = c.regret_operator(c.v_operator(U, X))
     value, v = _top_singular(op)

@@ -11,7 +11,8 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int, check_size, check_problem
+from .._validate import OrrcValueError, as_float, as_int, check_size
+from .._problem import check_problem
 from ..controllers.preview import PreviewRHC
 from ..costs import StageCost
 from ..systems import System
@@ -69,9 +70,11 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
     w_radius = 0.1 * x_radius if w_radius is None else as_float("w_radius", w_radius, minimum=0.0, strict_min=True)
     rng = _rng(seed)
     n, m = system.n, system.m
-    check_size(f"sampled_constants with n_samples={n_samples} at M={M} (3 x {n_samples} M-step solves)",
-               nbytes=8.0 * 6 * n_samples * M * n, ops=3.0 * n_samples * M * (n + m) * 1e5,
-               hint="lower n_samples or M")
+    check_size(f"sampled_constants with n_samples={n_samples}, grid={grid} at M={M} (3 x {n_samples} M-step solves, "
+               f"then the Pareto curve at {grid} points)",
+               nbytes=8.0 * 6 * n_samples * M * n + 8.0 * 8 * grid,
+               ops=3.0 * n_samples * M * (n + m) * 1e5 + 1e3 * grid * (3 * n_samples + 1),
+               hint="lower n_samples, grid or M")
     rhc = PreviewRHC(system, cost, M, input_bounds=input_bounds, solver_options=solver_options)
     xs = Ball(x_radius, n).sample(2 * n_samples, rng)
     Ws = Ball(w_radius, n).sample(2 * n_samples * M, rng).reshape(2 * n_samples, M, n)

@@ -102,8 +102,8 @@ class Controller:
     def check_run(self, system, T: int) -> None:
         """Refuse a run this controller cannot serve (called by ``simulate`` before the first step).
 
-        Default: a controller that holds a model (``self.system``) or an input dimension
-        (``self.m``) must match the simulated system's dimensions. Subclasses extend it (e.g.
+        Default: a controller that holds a model (``self.system``), a state dimension (``self.n``) or an
+        input dimension (``self.m``) must match the simulated system's dimensions. Subclasses extend it (e.g.
         :class:`~orrc.Clairvoyant` needs the T it planned for).
         """
         own = getattr(self, "system", None)
@@ -111,6 +111,10 @@ class Controller:
             raise OrrcValueError(
                 f"controller {self.name!r} was built for a system with n={own.n} states and m={own.m} inputs; "
                 f"the simulated system has n={system.n}, m={system.m}")
+        n = getattr(self, "n", None)
+        if isinstance(n, int) and n != system.n:
+            raise OrrcValueError(f"controller {self.name!r} was built for n={n} states; the simulated system has "
+                                 f"n={system.n}")
         m = getattr(self, "m", None)
         if isinstance(m, int) and m != system.m:
             raise OrrcValueError(f"controller {self.name!r} gives m={m} inputs; the simulated system has "

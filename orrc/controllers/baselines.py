@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_int, check_problem
+from .._validate import OrrcValueError, as_int
+from .._problem import check_problem
 from ..costs import QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from .base import Controller, Decision, Observation

@@ -3,9 +3,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_int, check_problem
+from .._validate import OrrcValueError, as_array, as_bool, as_int
+from .._problem import check_cost
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..parametric import LinearParametricSystem, ParametricSystem
+from ..solvers.lq import lq_law_size
 from .base import Controller, Decision, Observation
 from .lifted import LiftedRHC
 from .preview import PreviewRHC, _bounds
@@ -31,9 +33,8 @@ class Excitation(Controller):
             raise OrrcValueError(f"excitation must have shape (T, m); got shape {excitation.shape}")
         self.excitation = excitation
         self.m = excitation.shape[1]
-        self.gain = None if gain is None else as_array("gain", gain, (self.m, n) if n is not None else None)
-        if self.gain is not None and self.gain.ndim != 2:
-            raise OrrcValueError(f"gain must have shape (m, n); got shape {self.gain.shape}")
+        self.gain = None if gain is None else as_array("gain", gain, (self.m, n))
+        self.n = None if self.gain is None else self.gain.shape[1]     # checked against the system by simulate
         self.input_bounds = _bounds("input_bounds", input_bounds, self.m)
         self.cost = cost
 
@@ -102,7 +103,7 @@ class EstimateThenControl(Controller):
         if not isinstance(model, (ParametricSystem, EDMD)):
             raise OrrcValueError(f"model must be an orrc.ParametricSystem (θ unknown) or an orrc.estimation.EDMD "
                                  f"(a dictionary); got {type(model).__name__}")
-        check_problem(None, cost)
+        check_cost(cost)
         self.model, self.cost = model, cost
         self.edmd = isinstance(model, EDMD)
         n = model.n
@@ -128,7 +129,7 @@ class EstimateThenControl(Controller):
             raise OrrcValueError(f"model ({model.name}) is not affine in theta, so least squares does not apply: pass "
                                  "estimator=..., or use an orrc.estimation.EDMD model")
         self.estimator = estimator
-        self.use_w = bool(use_w)
+        self.use_w = as_bool("use_w", use_w)
         if rank_deficient not in ("raise", "warn"):
             raise OrrcValueError(f"rank_deficient must be 'raise' or 'warn'; got {rank_deficient!r}")
         self.rank_deficient = rank_deficient
@@ -159,6 +160,8 @@ class EstimateThenControl(Controller):
         self._lq = isinstance(model, LinearParametricSystem) and (
             (isinstance(cost, QuadraticCost) and self.input_bounds is None) or isinstance(cost, L1Cost))
         self._rhc = None
+        if self._lq and isinstance(cost, QuadraticCost):   # the law is built at t = N: its size is checked now
+            lq_law_size(self.M, n, m, who="EstimateThenControl's control phase (the exact LQ preview law)")
         if not self.edmd and not self._lq:
             theta0 = np.zeros(model.n_params) if theta0 is None else model.check_theta(theta0, "theta0")
             self._rhc = PreviewRHC(model, cost, self.M, input_bounds=input_bounds, solver_options=solver_options,

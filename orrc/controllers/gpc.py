@@ -22,8 +22,9 @@ import math
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int, check_problem
-from ..costs import QuadraticCost
+from .._validate import PY_CALL_OPS, OrrcValueError, as_array, as_bool, as_float, as_int, as_square, check_size
+from .._problem import check_problem
+from ..costs import QuadraticCost, psd_factor as _sqrt_psd
 from ..systems import LinearSystem
 from .base import Controller, Decision, Observation
 
@@ -59,9 +60,11 @@ def strong_stability(A_cl) -> tuple[float, float]:
     """
     from scipy import linalg
 
+    A_cl = as_square("A_cl", A_cl)
     rho = float(np.max(np.abs(np.linalg.eigvals(A_cl))))
     if rho >= 1.0:
-        raise OrrcValueError(f"the closed loop must be stable for a strong-stability certificate; ρ = {rho:.6g}")
+        raise OrrcValueError(f"A_cl must be Schur stable (the closed loop) for a strong-stability certificate; its "
+                             f"spectral radius is ρ = {rho:.6g}")
     decay = 0.5 * (1.0 + rho)
     P = linalg.solve_discrete_lyapunov(A_cl.T / decay, np.eye(A_cl.shape[0]))
     lam = np.linalg.eigvalsh(0.5 * (P + P.T))
@@ -165,7 +168,13 @@ class GPC(DisturbanceAction):
         _linear_problem("GPC", system, cost)
         H = as_int("H", H, minimum=1)
         self.lr = as_float("lr", lr, minimum=0.0, strict_min=True)
-        self.decay = bool(decay)
+        self.decay = as_bool("decay", decay)
+        n, m = system.n, system.m
+        p = H * m * n
+        # one step: the surrogate's forward sensitivities, H steps of (n + m) x p products, and H SVDs
+        check_size(f"GPC's online gradient step with memory H={H} (n={n}, m={m}): {p} parameters",
+                   nbytes=8.0 * (6 * p + 4 * (n + m) * p), ops=H * (4.0 * (n + m) * (n + m) * p + 12 * PY_CALL_OPS),
+                   hint="lower H")
         self.H_state = H
         super().__init__(system, cost, np.zeros((H, system.m, system.n)), K)
         kappa, gamma_s = strong_stability(system.A - system.B @ self.K)
@@ -240,8 +249,6 @@ class GPC(DisturbanceAction):
 
 def _policy_cost_quadratic(system, cost, K, H, w, T, x0):
     """Σ_{t<T} c_t of the fixed policy M as F θ + f (stacked [Q^½x_t; R^½u_t]), θ = vec M."""
-    from ..certify.attenuation import _sqrt_psd
-
     A, B = system.A, system.B
     n, m = system.n, system.m
     p = H * m * n
@@ -280,6 +287,10 @@ def best_fixed_policy(system: LinearSystem, cost: QuadraticCost, w, T: int, H: i
         raise OrrcValueError(f"w must have shape (L, {n}) with L >= T = {T}; got shape {w.shape}")
     K = _gain(system, cost, K)
     x0 = np.zeros(n) if x0 is None else as_array("x0", x0, (n,))
+    p = H * m * n
+    check_size(f"best_fixed_policy's least squares over T={T} steps with H={H} (n={n}, m={m}): a "
+               f"{T * (n + m)} x {p} matrix", nbytes=8.0 * 3 * T * (n + m) * p,
+               ops=T * (4.0 * (n + m) * n * p + 10 * PY_CALL_OPS) + 2.0 * T * (n + m) * p * p, hint="lower T or H")
     F, f = _policy_cost_quadratic(system, cost, K, H, w, T, x0)
     theta = np.linalg.lstsq(F, -f, rcond=None)[0]
     M = theta.reshape(H, m, n)

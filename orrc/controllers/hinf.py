@@ -21,7 +21,8 @@ with Ā = [[A, I, 0..], [0, 0, I, ..], ..., [0 ... 0]], B̄ = [B; 0], Ē = [0; .
 cost weight diag(Q, 0). The only disturbance left, v_t, is not seen before it acts, so the
 preview controller is strictly causal state feedback on ξ; its optimal level is the best
 attenuation among controllers whose u_t uses x_0..x_t and w_0..w_{t+k-1} (the state ξ_t is
-measured, so a static feedback on ξ is optimal), and the controller is
+measured, so a static feedback on ξ is optimal; not a full-information level, which would let
+u_t use v_t too), and the controller is
 u_t = −K x_t − L vec(w_t..w_{t+k-1}), the same form as Algorithm 1's LQ law
 (:class:`~orrc.PreviewRHC`). The level falls with k towards the non-causal level (a controller
 that knows the whole sequence) and stops improving after a few steps.
@@ -30,7 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import as_float, as_int, check_problem
+from .._validate import as_float, as_int, check_size
+from .._problem import check_problem
 from ..costs import QuadraticCost
 from ..solvers import game
 from ..systems import LinearSystem, NonlinearSystem, System
@@ -78,7 +80,8 @@ class HInfinity(Controller):
     system : a :class:`~orrc.LinearSystem` (a :class:`~orrc.NonlinearSystem` is replaced by its
         linearisation at the origin, as :class:`~orrc.LQR` does).
     cost : the :class:`~orrc.QuadraticCost` whose stage cost is the output's energy.
-    gamma : the level, or None (default) for the optimal level, found by bisection on the game
+    gamma : the level, or None (default) for the optimal level (the best among controllers that use
+        the state and the k previewed disturbances, see the module docstring), found by bisection on the game
         Riccati equation (:func:`orrc.solvers.game.optimal_game_level`, certified feasible, with an
         error bound ``gamma_opt_error``: γ* lies in [gamma_opt − gamma_opt_error, gamma_opt]); the
         controller is then built at ``gamma_opt·(1 + 1e-5)`` (or ``gamma_opt + 2·gamma_opt_error`` if
@@ -104,7 +107,13 @@ class HInfinity(Controller):
         self.preview = as_int("preview", preview, minimum=0)
         A, B = (system.A, system.B) if isinstance(system, LinearSystem) else system.linearize()
         game.check_stabilisable(A, B)
-        n = A.shape[0]
+        n, m = B.shape
+        N = n * (self.preview + 1)
+        # the optimal level: a bisection of about 60 certified game AREs on the (N + m + n)-dimensional
+        # pencil of the augmented system (each O(N³), with a handful of N x N work arrays)
+        check_size(f"HInfinity's game on the state augmented with preview={self.preview} disturbances (n={n}: "
+                   f"{N} states)", nbytes=8.0 * 40 * (N + m + n) ** 2,
+                   ops=(60 if gamma is None else 2) * 200.0 * (N + m + n) ** 3, hint="lower the preview")
         if self.preview:
             Ab, Bb, Qb, Eb = preview_buffer_system(A, B, cost.Q, self.preview)
         else:

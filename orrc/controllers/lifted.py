@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import OrrcValueError, check_problem
+from .._validate import OrrcValueError, as_array
+from .._problem import check_cost
 from ..costs import Cost, QuadraticCost, StageCost
 from .base import Controller, Decision, Observation
 from .preview import PreviewRHC
@@ -47,7 +48,7 @@ class LiftedRHC(Controller):
             if not hasattr(model, attr):
                 raise OrrcValueError(f"model must be a lifted linear model (orrc.estimation.EDMDModel); it has no "
                                      f"{attr!r}")
-        check_problem(None, cost)
+        check_cost(cost)
         n = model.C.shape[0]
         cost.check_dims(n, model.B.shape[1])
         self.model, self.cost = model, cost
@@ -70,7 +71,10 @@ class LiftedRHC(Controller):
 
     def plan(self, x, w_preview):
         """The M-step plan on the lifted model from state x with previewed disturbances (M, n)."""
-        return self.inner.plan(self.model.lift(np.asarray(x, dtype=float)), np.asarray(w_preview) @ self.model.E.T)
+        n = self.model.C.shape[0]
+        x = as_array("x", x, (n,))
+        w_preview = as_array("w_preview", w_preview, (self.M, n))
+        return self.inner.plan(self.model.lift(x), w_preview @ self.model.E.T)
 
     def control(self, obs: Observation) -> Decision:
         return self.inner.control(self.lift_observation(obs))

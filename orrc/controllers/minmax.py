@@ -5,7 +5,8 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int, check_problem
+from .._validate import OrrcValueError, as_array, as_float, as_int, as_seed
+from .._problem import check_problem
 from ..costs import QuadraticCost, StageCost
 from ..disturbances import Box
 from ..systems import LinearSystem, System
@@ -93,6 +94,7 @@ class MinMaxRHC(Controller):
         if method == "auto":
             method = "exact" if exact_ok and vertex_count(self.W, self.M) <= AUTO_EXACT_LIMIT else "exchange"
         self.method = method
+        as_seed("seed", seed)      # checked whatever the method (only the exchange draws from it)
         self.seed = seed
         if tol is not None:
             tol = as_float("tol", tol, minimum=0.0, strict_min=True, maximum=1.0)
@@ -153,8 +155,7 @@ class MinMaxRHC(Controller):
                     "against every disturbance sequence in W")
             raise OrrcValueError(f"MinMaxRHC.plan got unknown arguments {names}; allowed: x, cost_params, warm_start")
         x = as_array("x", x, (self.system.n,))
-        if warm_start is not None and not isinstance(warm_start, MinMaxPlan):
-            raise OrrcValueError(f"warm_start must be a MinMaxPlan from MinMaxRHC.plan; got {type(warm_start).__name__}")
+        self._check_warm_start(warm_start)
         P = self._params(cost_params)
         plan = FailureLadder.attempt(self._rungs(x, P, warm_start, 1))
         if not plan.success:
@@ -162,6 +163,18 @@ class MinMaxRHC(Controller):
             warnings.warn(f"MinMaxRHC.plan: the {self.method} min-max solve did not succeed ({plan.status}); the plan "
                           f"holds {plan.fallback} (plan.success is False)", SolverWarning, stacklevel=2)
         return plan
+
+    def _check_warm_start(self, warm_start) -> None:
+        """A warm start is a MinMaxPlan of this problem's shapes (a plan of another horizon or system is refused)."""
+        if warm_start is None:
+            return
+        if not isinstance(warm_start, MinMaxPlan):
+            raise OrrcValueError(f"warm_start must be a MinMaxPlan from MinMaxRHC.plan; got "
+                                 f"{type(warm_start).__name__}")
+        M, n, m = self.M, self.system.n, self.system.m
+        as_array("warm_start.inputs", warm_start.inputs, (M, m))
+        if warm_start.worst_w is not None:
+            as_array("warm_start.worst_w", warm_start.worst_w, (M, n))
 
     def _rungs(self, x, P, prev: MinMaxPlan | None, k: int):
         """The ways of solving one min-max problem, in the order the failure ladder tries them: warm-started

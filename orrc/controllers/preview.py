@@ -7,7 +7,8 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from .._validate import OrrcValueError, _describe, as_array, as_int, check_evaluates, check_problem
+from .._validate import OrrcValueError, _describe, as_array, as_int, check_evaluates
+from .._problem import check_problem
 from ..costs import L1Cost, QuadraticCost, StageCost
 from ..systems import LinearSystem, System
 from ..solvers import lq

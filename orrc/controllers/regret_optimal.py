@@ -29,7 +29,8 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_int, check_problem
+from .._validate import OrrcValueError, as_int
+from .._problem import check_problem
 from ..costs import QuadraticCost
 from ..solvers.condensed import condensed
 from ..solvers.nlp import SolverWarning

@@ -21,13 +21,14 @@ from __future__ import annotations
 
 import itertools
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Callable
 
 import casadi as ca
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int, check_size
+from .._validate import PY_CALL_OPS, NonFiniteWarning, OrrcValueError, as_array, as_bool, as_float, as_int, check_size
 from ..systems import LinearSystem, NonlinearSystem, System
 from .data import Estimate, full_rank_solve, transitions
 
@@ -114,7 +115,8 @@ def polynomial_dictionary(n: int, degree: int, include_constant: bool = False) -
     """
     n = as_int("n", n, minimum=1)
     degree = as_int("degree", degree, minimum=1)
-    K = math.comb(n + degree, degree) - 1 + bool(include_constant)
+    include_constant = as_bool("include_constant", include_constant)
+    K = math.comb(n + degree, degree) - 1 + include_constant
     _check_features(K, f"polynomial_dictionary(n={n}, degree={degree})", terms=degree)
     combos = [c for d in range(1, degree + 1) for c in itertools.combinations_with_replacement(range(n), d)]
 
@@ -148,7 +150,8 @@ def rbf_dictionary(centers, width: float, include_constant: bool = False) -> Dic
         raise OrrcValueError(f"centers must have shape (k, n) with k >= 1; got shape {centers.shape}")
     width = as_float("width", width, minimum=0.0, strict_min=True)
     k, n = centers.shape
-    _check_features(n + k + bool(include_constant), f"rbf_dictionary with {k} centres", terms=3 * n)
+    include_constant = as_bool("include_constant", include_constant)
+    _check_features(n + k + include_constant, f"rbf_dictionary with {k} centres", terms=3 * n)
 
     def psi(x):
         feats = [x]
@@ -202,8 +205,17 @@ class EDMDModel(Estimate):
             raise OrrcValueError(f"U must have shape (h, {m}); got shape {U.shape}")
         if W is not None:
             W = as_array("W", W, (len(U), n))
-        Z = _lifted_rollout(self, self.lift(x0)[None, :], U[None], None if W is None else W[None])
-        return Z[0] @ self.C.T
+        check_size(f"EDMDModel.predict over h={len(U)} steps (K={self.K} features)",
+                   nbytes=3 * 8.0 * (len(U) + 1) * (self.K + n), ops=len(U) * (2.0 * self.K * (self.K + m + n) + 3 * PY_CALL_OPS), hint="shorten U")
+        with np.errstate(over="ignore", invalid="ignore"):
+            X = _lifted_rollout(self, self.lift(x0)[None, :], U[None], None if W is None else W[None])[0] @ self.C.T
+        bad = ~np.all(np.isfinite(X), axis=1)
+        if bad.any():
+            warnings.warn(f"EDMDModel.predict: the prediction overflows the float range from step "
+                          f"{int(np.argmax(bad))} of {len(U)} (the lifted model's spectral radius is "
+                          f"{float(np.max(np.abs(np.linalg.eigvals(self.A)))):.4g}); shorten the horizon",
+                          NonFiniteWarning, stacklevel=2)
+        return X
 
     def __repr__(self):
         return (f"EDMDModel(K={self.K}, N={self.N}, ridge={self.ridge:g}, dictionary={self.dictionary.name!r}, "
@@ -325,6 +337,9 @@ def prediction_error(model, X, U, W=None, horizon: int = 20) -> float:
     Xs = X if isinstance(X, (list, tuple)) else [X]
     Us = U if isinstance(U, (list, tuple)) else [U]
     Ws = [None] * len(Xs) if W is None else (W if isinstance(W, (list, tuple)) else [W])
+    if not (len(Xs) == len(Us) == len(Ws)):
+        raise OrrcValueError(f"X, U and W must list the same number of experiments; got {len(Xs)}, {len(Us)}, "
+                             f"{len(Ws)}")
     sq, count = 0.0, 0
     for x, u, w in zip(Xs, Us, Ws):
         D = transitions(x, u, w)
@@ -334,10 +349,17 @@ def prediction_error(model, X, U, W=None, horizon: int = 20) -> float:
         xs = np.vstack([D.x, D.x_next[-1:]])
         starts = np.arange(N - horizon + 1)
         idx = starts[:, None] + np.arange(horizon)[None, :]
-        pred = _rollouts(model, xs[starts], D.u[idx], None if D.w is None else D.w[idx])
-        err = pred[:, -1] - xs[starts + horizon]
-        sq += float(np.sum(err * err))
+        check_size(f"prediction_error's {len(starts)} rollouts of horizon={horizon} steps (n={D.x.shape[1]})",
+                   nbytes=8.0 * len(starts) * (horizon + 1) * (2 * D.x.shape[1] + D.u.shape[1]),
+                   ops=len(starts) * horizon * 20.0 * D.x.shape[1] + horizon * 3 * PY_CALL_OPS, hint="lower horizon")
+        with np.errstate(over="ignore", invalid="ignore"):
+            pred = _rollouts(model, xs[starts], D.u[idx], None if D.w is None else D.w[idx])
+            err = pred[:, -1] - xs[starts + horizon]
+            sq += float(np.sum(err * err))
         count += len(starts)
     if count == 0:
         raise OrrcValueError(f"no trajectory is long enough for a {horizon}-step prediction (each needs N >= horizon)")
+    if not math.isfinite(sq):
+        warnings.warn(f"prediction_error: the model's {horizon}-step predictions overflow the float range (the error "
+                      "is inf or NaN); shorten the horizon", NonFiniteWarning, stacklevel=2)
     return math.sqrt(sq / count)

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int, as_seed
+from .._validate import OrrcValueError, as_float, as_int, as_seed, check_size
 
 __all__ = ["gaussian", "prbs", "multisine"]
 
@@ -29,9 +29,14 @@ def _rng(seed):
     return as_seed("seed", seed)
 
 
-def _dims(N, m, amplitude):
-    return (as_int("N", N, minimum=1), as_int("m", m, minimum=1),
-            as_float("amplitude", amplitude, minimum=0.0, strict_min=True))
+def _dims(N, m, amplitude, terms: int = 1):
+    """N, m and the amplitude checked, and the (N, m) signal's size estimated before it is built
+    (``terms``: the work per entry, e.g. the number of sinusoids of a multisine)."""
+    N, m = as_int("N", N, minimum=1), as_int("m", m, minimum=1)
+    amplitude = as_float("amplitude", amplitude, minimum=0.0, strict_min=True)
+    check_size(f"an excitation signal of N={N} steps and m={m} inputs", nbytes=4 * 8.0 * N * m + 8.0 * N * terms,
+               ops=20.0 * N * m * terms, hint="lower N")
+    return N, m, amplitude
 
 
 def gaussian(N: int, m: int, amplitude: float = 1.0, std: float | None = None, seed=None) -> np.ndarray:
@@ -48,12 +53,12 @@ def prbs(N: int, m: int, amplitude: float = 1.0, hold: int = 1, seed=None) -> np
     initial register state comes from ``seed`` (never all zeros) and input i starts at a random
     shift of the sequence. Each bit is held for ``hold`` steps.
     """
-    N, m, amplitude = _dims(N, m, amplitude)
-    hold = as_int("hold", hold, minimum=1)
+    N, hold = as_int("N", N, minimum=1), as_int("hold", hold, minimum=1)
     bits_needed = math.ceil(N / hold)
     nbits = max(5, math.ceil(math.log2(bits_needed + 1)))
     if nbits > 32:
         raise OrrcValueError(f"N={N} is too long for a PRBS of at most 32 register bits")
+    N, m, amplitude = _dims(N, m, amplitude)
     from scipy.signal import max_len_seq
 
     rng = _rng(seed)
@@ -74,8 +79,8 @@ def prbs(N: int, m: int, amplitude: float = 1.0, hold: int = 1, seed=None) -> np
 def multisine(N: int, m: int, amplitude: float = 1.0, n_freqs: int = 8, seed=None) -> np.ndarray:
     """u_{k,i} = s Σ_j sin(2π f_j k + φ_{ij}): ``n_freqs`` frequencies f_j = j/(2 n_freqs + 1)
     (j = 1..n_freqs, spread over (0, 1/2)), random phases φ (seeded), s such that max |u| = amplitude."""
-    N, m, amplitude = _dims(N, m, amplitude)
     n_freqs = as_int("n_freqs", n_freqs, minimum=1)
+    N, m, amplitude = _dims(N, m, amplitude, terms=n_freqs)
     rng = _rng(seed)
     f = np.arange(1, n_freqs + 1) / (2 * n_freqs + 1)
     k = np.arange(N)[:, None]

@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._validate import PY_CALL_OPS, check_size
+
 __all__ = ["Condensed", "condensed"]
 
 
@@ -52,9 +54,17 @@ class Condensed:
         return U + np.kron(np.eye(T), self.K) @ X
 
 
-def condensed(A, B, Q, R, T: int, K=None) -> Condensed:
-    """The condensed operators of the T-step problem (K: the pre-stabilising gain, default 0)."""
+def condensed(A, B, Q, R, T: int, K=None, who: str = "the condensed T-step problem") -> Condensed:
+    """The condensed operators of the T-step problem (K: the pre-stabilising gain, default 0), after
+    :func:`orrc._validate.check_size` (``who`` names the computation in its message)."""
     n, m = B.shape
+    N, P = T * n, T * m
+    # the dense (T n)² and (T m)² operators with their temporaries; the loop over T²/2 blocks (three numpy
+    # calls each); the products with the Kronecker weights (4 N² P), eigh (about 10 P³) and the solve
+    check_size(f"{who} at T={T} (n={n}, m={m}): its condensed operators are {N} x {N} and {P} x {P} matrices",
+               nbytes=8.0 * (8 * N * N + 8 * P * P + 6 * N * P),
+               ops=1.5 * T * T * PY_CALL_OPS + 10.0 * P ** 3 + 2.0 * P * P * N + 4.0 * N * N * P,
+               hint="lower T")
     K = np.zeros((m, n)) if K is None else np.asarray(K, float)
     Acl = A - B @ K
     powers = [np.eye(n)]

@@ -44,8 +44,10 @@ import time
 import casadi as ca
 import numpy as np
 
+from .._validate import as_seed, check_size
 from ..disturbances import Box
 from .minmax import MinMaxPlan
+from .nlp import _OPS_PER_NODE
 
 __all__ = ["ScenarioExchange"]
 
@@ -87,6 +89,13 @@ class ScenarioExchange:
     def __init__(self, system, cost, M: int, W, input_bounds=None, rtol: float = 1e-6, atol: float = 1e-10,
                  max_iter: int = 30, n_starts: int = 8, max_scenarios: int = 64, solver: str = "sqpmethod",
                  solver_options=None, seed=0, fw_iter: int = 50, verify_factor: int = 4):
+        as_seed("seed", seed)      # a seed numpy cannot use is refused here, not at the first solve
+        # the expression graphs built now: J over M stages, its gradient, the rollout and the first outer
+        # problem (4 scenario slots); larger outer problems are built when the exchange needs them
+        per_stage = 30 + 4 * (system.n + system.m + cost.n_params)
+        nodes = 8.0 * M * per_stage
+        check_size(f"the scenario exchange's CasADi problems at the horizon M={M} (n={system.n}, m={system.m})",
+                   nbytes=400.0 * nodes, ops=_OPS_PER_NODE * nodes, hint="lower M")
         self.M, self.n, self.m, self.W = M, system.n, system.m, W
         self.rtol, self.atol, self.max_iter = rtol, atol, max_iter
         self.n_starts, self.max_scenarios, self.fw_iter, self.seed = n_starts, max_scenarios, fw_iter, seed

@@ -23,8 +23,8 @@ condition of the saddle point at every stage.
   algebraic Riccati equation (``scipy.linalg.solve_discrete_are`` with the indefinite weight
   diag(R, −γI));
 * :func:`optimal_game_level` -- the smallest γ at which :func:`stationary_game` has a solution
-  (bisection): the squared H∞ norm of the optimal state-feedback closed loop from w to
-  [Q^½x; R^½u], with an error bound.
+  (bisection): the squared H∞ norm of the optimal (strictly causal) state-feedback closed loop
+  from w to [Q^½x; R^½u], with an error bound.
 
 Decisions follow the problem's conditioning, not fixed thresholds: a computed Riccati solution
 counts only when an a-posteriori bound (``orrc.solvers._game_bounds``: the residual, ‖L⁻¹‖ of the
@@ -41,9 +41,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd, eigvalsh_tol
+from .._validate import OrrcValueError, as_array, as_float, as_int, as_square, check_psd, check_size, eigvalsh_tol
 from . import _game_bounds as bounds
 from ._game_bounds import EPS
+from .lq import riccati_steps_size
 
 __all__ = ["GameSolution", "finite_horizon_game", "stationary_game", "optimal_game_level", "check_stabilisable"]
 
@@ -85,6 +86,9 @@ def _problem(A, B, Q, R, E):
     m = B.shape[1]
     Q = as_square("Q", Q, n)
     R = as_square("R", R, m)
+    # the checks themselves (eigenvalues of Q and R, the stabilisability test) are O(n³)
+    check_size(f"a game of n={n} states (m={m})", nbytes=8.0 * 10 * (n + m) ** 2, ops=60.0 * (n + m) ** 3,
+               hint="the game Riccati equations are O(n³) each")
     check_psd("Q", Q)
     check_psd("R", R, strict=True)
     if E is None:
@@ -105,8 +109,9 @@ def _gamma(gamma) -> float:
 def check_stabilisable(A, B, what: str = "(A, B)") -> None:
     """Raise :class:`~orrc.OrrcValueError` unless (A, B) is stabilisable (discrete time, PBH test:
     rank [A − λI, B] = n for every eigenvalue |λ| >= 1)."""
-    A, B = np.asarray(A, float), np.asarray(B, float)
+    A = as_square("A", A)
     n = A.shape[0]
+    B = as_array("B", B, (n, None))
     scale = max(1.0, float(np.abs(A).max()), float(np.abs(B).max()) if B.size else 0.0)
     for lam in np.linalg.eigvals(A):
         if abs(lam) >= 1.0 - 1e-12:
@@ -116,6 +121,15 @@ def check_stabilisable(A, B, what: str = "(A, B)") -> None:
                     f"{what} is not stabilisable: the mode λ = {complex(lam):.6g} (|λ| = {abs(lam):.6g} >= 1) "
                     "cannot be moved by the input (PBH test: rank [A − λI, B] < n); no controller "
                     "keeps the closed loop bounded")
+
+
+def _are_size(what: str, A, B, E, solves: int) -> None:
+    """:func:`orrc._validate.check_size` for ``solves`` certified game AREs: each a (2n + m + q)-
+    dimensional pencil (Schur or structured doubling, O(N³) with a few dozen N x N work arrays) and its certificate."""
+    n, m, q = A.shape[0], B.shape[1], E.shape[1]
+    N = 2 * n + m + q
+    check_size(f"{what} on a game of n={n} states (m={m}, q={q})", nbytes=8.0 * 40 * N * N,
+               ops=solves * 200.0 * N ** 3, hint="the game Riccati equations are O(n³) each")
 
 
 # -- one stage of the recursion ----------------------------------------------------------------------
@@ -184,6 +198,8 @@ def finite_horizon_game(A, B, Q, R, gamma, M, Pf=None, E=None) -> GameSolution:
     gamma = _gamma(gamma)
     M = as_int("M", M, minimum=1)
     n = A.shape[0]
+    riccati_steps_size(f"the {M}-step game's backward recursion at M={M} (n={n}, m={B.shape[1]}, "
+                       f"q={E.shape[1]})", M, n, B.shape[1] + E.shape[1])
     if Pf is not None:
         Pf = as_square("Pf", Pf, n)
         check_psd("Pf", Pf)
@@ -207,6 +223,9 @@ def finite_game_level(A, B, Q, R, M, Pf=None, E=None, tol: float = 1e-9) -> floa
     M = as_int("M", M, minimum=1)
     tol = as_float("tol", tol, minimum=0.0, strict_min=True)
     n = A.shape[0]
+    # the bisection: about log2(range/tol) <= 100 recursions of M steps
+    riccati_steps_size(f"finite_game_level's bisection over the {M}-step game at M={M} (n={n}, m={B.shape[1]}, "
+                       f"q={E.shape[1]})", 100 * M, n, B.shape[1] + E.shape[1])
     Pf = None if Pf is None else as_square("Pf", Pf, n)
 
     def feasible(g):
@@ -274,6 +293,7 @@ def stationary_game(A, B, Q, R, gamma, E=None) -> GameSolution:
     """
     A, B, Q, R, E = _problem(A, B, Q, R, E)
     gamma = _gamma(gamma)
+    _are_size("stationary_game", A, B, E, solves=4)
     check_stabilisable(A, B)
     cert = _stationary(A, B, E, Q, R, gamma)
     if cert.verdict != "feasible":  # close to the optimal level scipy's Schur method loses accuracy first
@@ -285,7 +305,8 @@ def stationary_game(A, B, Q, R, gamma, E=None) -> GameSolution:
         if gamma <= level:
             raise OrrcValueError(
                 f"gamma = {gamma:.9g} is not above the optimal level {level:.9g} (within {error:.2g}) of the "
-                f"stationary game ({cert.reason}); no stabilising controller attains a level below it: "
+                f"stationary game ({cert.reason}); no stabilising state-feedback controller (u_t from x_0..x_t) "
+                f"attains a level below it: "
                 f"use gamma > {level:.9g}")
         raise OrrcValueError(
             f"gamma = {gamma:.9g} is too close to the optimal level {level:.9g} of the stationary game for the "
@@ -299,8 +320,12 @@ def optimal_game_level(A, B, Q, R, tol: float = 1e-9, E=None, with_error: bool =
     """The smallest γ for which :func:`stationary_game` has a solution, by bisection to relative ``tol``.
 
     It equals the squared H∞ norm of the optimal state-feedback closed loop from w to
-    [Q^½x; R^½u] (full-information H∞ control: a static state feedback is optimal among all
-    causal controllers). Each step of the bisection solves the game ARE by structured doubling
+    [Q^½x; R^½u]: the best level among the strictly causal controllers that measure the state,
+    u_t a function of x_0..x_t (and of the past inputs), never of w_t; among those a static state
+    feedback u = −Kx is optimal (Başar and Bernhard 1995, Theorem 3.7). It is not the
+    full-information level: in discrete time a controller that also sees w_t when it chooses u_t
+    can do better (with preview, :class:`orrc.HInfinity` plays this game on the state augmented
+    with the previewed w's). Each step of the bisection solves the game ARE by structured doubling
     (numpy) and decides with the certificate of :func:`stationary_game`, so the returned level γ̂
     is certified feasible: γ* <= γ̂, whatever BLAS kernel ran.
 
@@ -319,6 +344,7 @@ def optimal_game_level(A, B, Q, R, tol: float = 1e-9, E=None, with_error: bool =
     tol = as_float("tol", tol, minimum=0.0, strict_min=True)
     if not isinstance(with_error, (bool, np.bool_)):
         raise OrrcValueError(f"with_error must be True or False; got {with_error!r}")
+    _are_size("optimal_game_level's bisection", A, B, E, solves=100)
     check_stabilisable(A, B)
     nc, nc_error = bounds.noncausal_level(A, B, E, Q, R)
     lower = max(0.0, nc - nc_error)

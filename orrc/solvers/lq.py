@@ -49,6 +49,18 @@ def riccati_steps_size(what: str, steps: int, n: int, m: int, stored: int = 3) -
                ops=steps * (_STEP_CALLS * PY_CALL_OPS + 6.0 * (n + m) ** 3), hint="lower the horizon")
 
 
+def lq_law_size(M: int, n: int, m: int,
+                who: str = "the exact LQ preview law (u = -Kx - L vec W, V_M = zᵀHz)") -> None:
+    """:func:`orrc._validate.check_size` for :class:`LQPreviewLaw` at the horizon M (also called by a
+    controller that builds the law later, e.g. Algorithm 2 at the end of its estimation phase)."""
+    N = M * n
+    # D (N x N), H and [H; -[K L]] ((n+N)², (n+N+m)(n+N)) and one N x N temporary per step
+    check_size(f"{who} at the horizon M={M} (n={n}, m={m})",
+               nbytes=8.0 * (4 * (n + N) ** 2 + (n + N) * m), ops=M * (m + 4.0) * float(N + n) ** 2,
+               hint="lower M (the law is O(M³n²) to build and O(M²n²) to store), or use PreviewRHC.plan, "
+                    "which solves one (x, W) by the Riccati recursion in O(M n³)")
+
+
 def _backward_gains(A, B, Qs, Rs, Pf):
     """P_0..P_M, K_0..K_{M-1} and S_j⁻¹ for time-varying Q_j, R_j (the Riccati part)."""
     M = len(Qs)
@@ -123,12 +135,7 @@ class LQPreviewLaw:
 
     def __init__(self, A, B, Q, R, M, Pf=None):
         n, m = B.shape
-        N = M * n
-        # D (N x N), H and [H; -[K L]] ((n+N)², (n+N+m)(n+N)) and one N x N temporary per step
-        check_size(f"the exact LQ preview law (u = -Kx - L vec W, V_M = zᵀHz) at the horizon M={M} (n={n}, m={m})",
-                   nbytes=8.0 * (4 * (n + N) ** 2 + (n + N) * m), ops=M * (m + 4.0) * float(N + n) ** 2,
-                   hint="lower M (the law is O(M³n²) to build and O(M²n²) to store), or use PreviewRHC.plan, "
-                        "which solves one (x, W) by the Riccati recursion in O(M n³)")
+        lq_law_size(M, n, m)
         self.A, self.B, self.M, self.n, self.m = A, B, M, n, m
         Qs = np.broadcast_to(Q, (M, n, n))
         Rs = np.broadcast_to(R, (M, m, m))

@@ -121,10 +121,15 @@ def _box_vertices(W: Box) -> np.ndarray:
                     dtype=float)
 
 
-def vertex_count(W: Box, M: int) -> int:
+def vertex_count(W: Box, M: int) -> int | float:
     """N = V^{M-1}: the vertex sequences (w_0..w_{M-2}) the exact method enumerates (V = the
-    distinct vertices of the box W, 2^n for a full-dimensional one), counted without listing them."""
-    return (2 ** int(np.count_nonzero(W.lo < W.hi))) ** (M - 1)
+    distinct vertices of the box W, 2^n for a full-dimensional one), counted without listing them:
+    an exact integer up to 2^62, beyond it a float (``inf`` past the float range), so that a long
+    horizon costs nothing to count (2^(M-1) as an integer takes seconds to build and to print)."""
+    bits = int(np.count_nonzero(W.lo < W.hi)) * (M - 1)
+    if bits <= 62:
+        return 2 ** bits
+    return 2.0 ** bits if bits < 1024 else math.inf
 
 
 def condensed(A: np.ndarray, B: np.ndarray, M: int):
@@ -196,7 +201,8 @@ class VertexEpigraph:
         V = 2 ** int(np.count_nonzero(W.lo < W.hi))
         N = vertex_count(W, M)
         width = M * n + M * m + 2
-        check_size(f"the exact min-max method at M={M}, n={n}: N = {V}^(M-1) = {N} vertex sequences",
+        count = str(N) if isinstance(N, int) else f"{N:.3g}"
+        check_size(f"the exact min-max method at M={M}, n={n}: N = {V}^(M-1) = {count} vertex sequences",
                    nbytes=8.0 * N * (width + M * n), ops=float(N) * (M * n) ** 2 + 10.0 * 4 * N * width,
                    hint="use method='exchange' (scenario exchange), or a shorter horizon M")
         verts = _box_vertices(W)

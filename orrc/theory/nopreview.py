@@ -37,20 +37,23 @@ import math
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int
-from .known import _M, _a_min, _above, _alphas, _decay, _gamma_bar, _require_threshold
+from .._validate import OrrcValueError, as_float, as_int, finite_result
+from ._setting import _M, _a_min, _above, _alphas, _decay, _gamma_bar, _require_threshold
 
 __all__ = ["Gamma_WV", "Gamma_WV_gamma", "horizon_threshold_W", "min_decay_rate_W", "decay_b_W", "gamma_c_W",
            "theorem3_constant"]
 
 
-def _constants_W(alpha_lo, alpha_hi_W, gamma_bar_W=None):
+_NO_GAMMA = object()
+
+
+def _constants_W(alpha_lo, alpha_hi_W, gamma_bar_W=_NO_GAMMA):
     """The checked (α_lo, ᾱ_W[, γ̄_W]); the messages name the no-preview constants."""
     try:
         alpha_lo, alpha_hi_W = _alphas(alpha_lo, alpha_hi_W)
     except OrrcValueError as exc:
         raise OrrcValueError(str(exc).replace("alpha_hi", "alpha_hi_W")) from None
-    if gamma_bar_W is None:
+    if gamma_bar_W is _NO_GAMMA:
         return alpha_lo, alpha_hi_W
     try:
         return alpha_lo, alpha_hi_W, _gamma_bar(gamma_bar_W)
@@ -73,6 +76,7 @@ def _theorem3_setting(M, a, alpha_lo, alpha_hi_W, gamma_bar_W):
 
 
 # -- Lemma 6 --------------------------------------------------------------------------------------
+@finite_result
 def Gamma_WV(M, alpha_lo, alpha_hi_W) -> float:
     """Γ_{W,V} = ᾱ_W²/((M-1) α_lo) - α_lo  (Lemma 6; Appendix D, last display of the proof).
 
@@ -81,9 +85,10 @@ def Gamma_WV(M, alpha_lo, alpha_hi_W) -> float:
     """
     M = _M(M)
     alpha_lo, alpha_hi_W = _constants_W(alpha_lo, alpha_hi_W)
-    return alpha_hi_W ** 2 / ((M - 1) * alpha_lo) - alpha_lo
+    return alpha_lo * ((alpha_hi_W / alpha_lo) ** 2 / (M - 1) - 1.0)
 
 
+@finite_result
 def Gamma_WV_gamma(M, alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
     """Γ^γ_{W,V} = γ̄_W (ᾱ_W/((M-1) α_lo) + 1)  (Lemma 6).
 
@@ -95,13 +100,15 @@ def Gamma_WV_gamma(M, alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
     return gamma_bar_W * (alpha_hi_W / ((M - 1) * alpha_lo) + 1.0)
 
 
+@finite_result
 def horizon_threshold_W(alpha_lo, alpha_hi_W) -> float:
     """ᾱ_W²/α_lo² + 1: Theorem 3 holds for every integer M strictly above it (then Γ_{W,V} < 0)."""
     alpha_lo, alpha_hi_W = _constants_W(alpha_lo, alpha_hi_W)
-    return alpha_hi_W ** 2 / alpha_lo ** 2 + 1.0
+    return (alpha_hi_W / alpha_lo) ** 2 + 1.0
 
 
 # -- Theorem 3 ------------------------------------------------------------------------------------
+@finite_result
 def min_decay_rate_W(M, alpha_lo, alpha_hi_W) -> float:
     """The smallest admissible decay rate of Theorem 3, a_min = 1 - (α_lo - ᾱ_W²/((M-1) α_lo))/ᾱ_W.
 
@@ -112,13 +119,14 @@ def min_decay_rate_W(M, alpha_lo, alpha_hi_W) -> float:
     M = _M(M)
     alpha_lo, alpha_hi_W = _constants_W(alpha_lo, alpha_hi_W)
     if not _above(M, alpha_lo, alpha_hi_W):
-        thr = alpha_hi_W ** 2 / alpha_lo ** 2 + 1
+        thr = (alpha_hi_W / alpha_lo) ** 2 + 1
         raise OrrcValueError(
             f"M={M} is not above the horizon threshold alpha_hi_W²/alpha_lo² + 1 = {thr:.6g} (alpha_lo={alpha_lo:.6g}, "
             f"alpha_hi_W={alpha_hi_W:.6g}); Theorem 3 needs M > threshold, i.e. M >= {math.floor(thr) + 1}")
     return _a_min(M, alpha_lo, alpha_hi_W)
 
 
+@finite_result
 def decay_b_W(alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
     """b_W = γ̄_W (α_lo/ᾱ_W + 1), the input gain of the recursion V^{t+1}_{W,M} <= a V^t_{W,M} +
     b_W max‖w‖² in the proof of Theorem 3 (the statement writes γ̄ for γ̄_W; the proof uses γ̄_W)."""
@@ -126,6 +134,7 @@ def decay_b_W(alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
     return gamma_bar_W * (alpha_lo / alpha_hi_W + 1.0)
 
 
+@finite_result
 def gamma_c_W(M, a, alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
     """γ_{c,W} = γ̄_W (α_lo/ᾱ_W + 1) / (1 - a)  (Theorem 3): b_W/(1 - a).
 
@@ -136,6 +145,7 @@ def gamma_c_W(M, a, alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
     return gamma_bar_W * (alpha_lo / alpha_hi_W + 1.0) / (1.0 - a)
 
 
+@finite_result
 def theorem3_constant(sigma0, T, M, a, alpha_lo, alpha_hi_W, gamma_bar_W, w_max_sq, gamma) -> float:
     """The O(1) of Theorem 3 made explicit: a C with
 

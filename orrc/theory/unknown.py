@@ -26,7 +26,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validate import OrrcValueError, as_float, as_int
+from .._validate import OrrcValueError, as_array, as_float, as_int, finite_result
 from . import known
 
 __all__ = ["alpha_f_tilde", "Gamma_V_theta", "lemma4_bound", "lemma5_c", "lemma5_M_theta", "lemma5_bound",
@@ -42,6 +42,7 @@ def _lipschitz_constants(alpha_V, alpha_kappa, alpha_c, alpha_tilde_f):
             _nonneg("alpha_tilde_f", alpha_tilde_f))
 
 
+@finite_result
 def alpha_f_tilde(alpha_f_S, M) -> float:
     """α̃_f = max_{0<=k<=M-2} (α_f S)^{k+1}  (Lemma 4; Appendix F): max(α_f S, (α_f S)^{M-1}).
 
@@ -53,6 +54,7 @@ def alpha_f_tilde(alpha_f_S, M) -> float:
     return max(L, L ** (M - 1))
 
 
+@finite_result
 def Gamma_V_theta(M, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f) -> float:
     """Γ^θ_V = 2 α_V + α_c α̃_f α_κ (M-1) (ᾱ/(α_lo (M-1)) + 1)  (Lemma 4; Appendix F, last display).
 
@@ -65,6 +67,7 @@ def Gamma_V_theta(M, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_ti
     return 2.0 * aV + ac * af * ak * (M - 1) * (alpha_hi / (alpha_lo * (M - 1)) + 1.0)
 
 
+@finite_result
 def lemma4_bound(sigma_t, w_energy, theta_error, M, alpha_lo, alpha_hi, gamma_bar, alpha_V, alpha_kappa, alpha_c,
                  alpha_tilde_f) -> float:
     """The right-hand side of Lemma 4 at one step:
@@ -87,7 +90,7 @@ def _eps_tilde(eps_tilde, M, a, alpha_lo, alpha_hi) -> float:
     """ε̃ of Lemma 5: default ᾱ(1 - a) (then a = 1 - ε̃/ᾱ, the proof's choice); else within
     [ᾱ(1 - a), α_lo - ᾱ²/((M-1)α_lo)]."""
     lo = alpha_hi * (1.0 - a)
-    hi = alpha_lo - alpha_hi ** 2 / ((M - 1) * alpha_lo)
+    hi = alpha_lo * (1.0 - (alpha_hi / alpha_lo) ** 2 / (M - 1))
     if eps_tilde is None:
         return lo
     e = as_float("eps_tilde", eps_tilde)
@@ -97,6 +100,7 @@ def _eps_tilde(eps_tilde, M, a, alpha_lo, alpha_hi) -> float:
     return e
 
 
+@finite_result
 def lemma5_c(M, a, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde=None) -> float:
     """c = α_V (2 + ε̃/ᾱ) + α_c α̃_f α_κ (M-1) ((α_lo - ε̃)/ᾱ + 1)  (Lemma 5; Appendix G).
 
@@ -110,6 +114,7 @@ def lemma5_c(M, a, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tild
     return aV * (2.0 + e / alpha_hi) + ac * af * ak * (M - 1) * ((alpha_lo - e) / alpha_hi + 1.0)
 
 
+@finite_result
 def lemma5_M_theta(H, a, c, alpha_V) -> float:
     """M_θ = c (1 - a^H)/(1 - a) + a^H α_V  (Lemma 5, in the appendix's form; the statement's
     "c(1 - a^H)(1 - a)" is a typo): the coefficient of ‖θ̂ - θ‖ in the cost bound at t + H."""
@@ -120,6 +125,7 @@ def lemma5_M_theta(H, a, c, alpha_V) -> float:
     return c * (1.0 - a ** H) / (1.0 - a) + a ** H * aV
 
 
+@finite_result
 def lemma5_bound(sigma_t, w_window, theta_error, M, H, a, alpha_lo, alpha_hi, gamma_bar, alpha_V, alpha_kappa,
                  alpha_c, alpha_tilde_f, eps_tilde=None) -> float:
     """The right-hand side of Lemma 5: Lemma 2's bound (:func:`orrc.theory.lemma2_bound`) + M_θ ‖θ̂ - θ‖,
@@ -148,6 +154,7 @@ class Theorem2Bound(NamedTuple):
         return self.estimation + self.known + self.model_error
 
 
+@finite_result
 def theorem2_constant(estimation_costs, w, sigma_N, theta_error, T, N, M, a, alpha_lo, alpha_hi, gamma_bar, gamma,
                       alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde=None) -> Theorem2Bound:
     """The bound of Theorem 2 made explicit: R^p_T(γ) <= estimation + known + model_error, for γ >= γ_c.
@@ -171,9 +178,11 @@ def theorem2_constant(estimation_costs, w, sigma_N, theta_error, T, N, M, a, alp
     if Ts.min() <= N:
         raise OrrcValueError(f"Theorem 2 needs a control phase: N < T; got N={N}, T={int(Ts.min())}")
     T_max = int(Ts.max())
-    ce = np.asarray(estimation_costs, dtype=float)
-    if ce.shape != (N,) or not np.all(np.isfinite(ce)):
+    M = known._M(M)
+    ce = as_array("estimation_costs", estimation_costs)
+    if ce.shape != (N,):
         raise OrrcValueError(f"estimation_costs must be N = {N} finite stage costs c_0..c_(N-1); got shape {ce.shape}")
+    sigma_N = _nonneg("sigma_N", sigma_N)
     e = known._energies("w", w)
     if len(e) < max(T_max + M - 2, N + M):
         raise OrrcValueError(f"w must hold the disturbances w_0..w_(T+M-3) (with the preview tail); got {len(e)} rows")
