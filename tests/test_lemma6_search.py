@@ -12,7 +12,7 @@ import pytest
 import orrc
 from orrc import certify, theory
 
-EX = orrc.examples.scalar_unstable(a=1.2)
+EX = orrc.examples.scalar_unstable(A=1.2)
 W1 = orrc.Box(-0.3, 0.3)
 
 
