@@ -127,8 +127,8 @@ class GPC(DisturbanceAction):
     H steps), driven by the recovered disturbances, and v_t(M) = −K y_t(M) + Σ_i M_i w_{t−i}. It
     is a convex quadratic in M; its gradient is exact (forward sensitivities).
 
-    Parameters and their source
-    ---------------------------
+    Parameters
+    ----------
     H : the memory (default 10). The paper's Theorem 5.1 takes H = γ⁻¹ log(T κ²) for a
         (κ, γ)-strongly stable K.
     lr : the step size η. With ``decay=True`` (default) the step at t is lr/√(t+1), the anytime
