@@ -394,13 +394,16 @@ def _png_width(png: bytes) -> int:
     return int.from_bytes(png[16:20], "big")  # the IHDR chunk: width, height as 4-byte integers
 
 
-def picture_html(wide: bytes, small: bytes | None, alt: str = "figure", cls: str = "",
+def picture_html(wide: bytes, small: bytes | None, alt: str | None = None, cls: str = "",
                  uid: str | None = None) -> str:
     """One ``div.orrc-figure`` holding ``img[data-variant=wide]`` and, when ``small`` is given,
     ``img[data-variant=narrow]``; a container query shows the wide image only where the
-    container is at least as wide as the wide image's natural width. ``cls``: extra
-    classes of both images (``orrc-frame`` for the explorer)."""
+    container is at least as wide as the wide image's natural width. ``alt``: the text
+    alternative of both images (required: :func:`orrc.viz.describe.describe` writes one from the
+    figure; ``""`` marks a decorative image). ``cls``: extra classes of both images
+    (``orrc-frame`` for the explorer)."""
     from .._validate import OrrcValueError
+
 
     for name, png in (("wide", wide), ("small", small)):
         if (png is not None or name == "wide") and not (isinstance(png, bytes) and png[:8] == _PNG):
@@ -410,6 +413,9 @@ def picture_html(wide: bytes, small: bytes | None, alt: str = "figure", cls: str
     uid = uid or "orrc-fig-" + uuid.uuid4().hex[:10]
     if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_-]*", uid):
         raise OrrcValueError(f"uid must be an HTML id (a letter, then letters, digits, - or _); got {uid!r}")
+    if not isinstance(alt, str):
+        raise OrrcValueError("alt must be the figure's text alternative, a string (describe(fig) writes one; "
+                             f'"" marks a decorative image); got {type(alt).__name__}')
     extra = f" {cls}" if cls else ""
     src = "data:image/png;base64,"
     imgs = (f'<img class="orrc-img{extra}" data-variant="wide" alt="{html.escape(alt)}" '
@@ -427,8 +433,12 @@ def picture_html(wide: bytes, small: bytes | None, alt: str = "figure", cls: str
 
 
 def figure_html(fig, dpi: int = DPI, close: bool = True) -> str:
-    """The HTML form of a figure: :func:`render` into :func:`picture_html`."""
-    return picture_html(*render(fig, dpi, close=close))
+    """The HTML form of a figure: :func:`render` into :func:`picture_html`, with the text
+    alternative :func:`orrc.viz.describe.describe` writes from the figure."""
+    from .describe import describe
+
+    alt = describe(fig)
+    return picture_html(*render(fig, dpi, close=close), alt=alt)
 
 
 def install(ip=None) -> bool:
