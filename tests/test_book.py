@@ -192,7 +192,22 @@ def test_execution_times_page_lists_every_chapter(book):
         cells = [re.sub(r"<.*?>", "", c).strip() for c in re.findall(r"<td.*?</td>", row, re.S)]
         seconds = float(cells[3])
         assert 0 < seconds < 600, f"{page}: run time {seconds}"
-        assert cells[4] == "✅", f"{page}: status {cells[4]}"
+        assert cells[4] == "passed", f"{page}: status {cells[4]}"
+    # the status marks need no emoji font: an inline SVG and a word (tools/sphinx_a11y.py)
+    assert not re.search("[\U0001F000-\U0001FAFF\u2705\u274C]", text), "an emoji glyph is left on the page"
+    assert text.count('class="orrc-status-mark"') == len(NOTEBOOKS)
+
+
+@pytest.mark.parametrize("page", PAGES, ids=page_id)
+def test_every_image_has_a_text_alternative(book, page):
+    """No image announced as just "figure": each figure's alt says what it shows (orrc.viz.describe);
+    an image without one must be marked decorative (alt="")."""
+    text = (HTML / f"{page}.html").read_text(encoding="utf-8")
+    imgs = re.findall(r"<img\b[^>]*>", text)
+    missing = [i[:120] for i in imgs if not re.search(r'\balt="', i)]
+    assert not missing, f"{page}: images without an alt attribute: {missing[:3]}"
+    fixed = [i[:120] for i in imgs if re.search(r'\balt="(figure|image|plot)?"', i, re.I) and "orrc-img" in i]
+    assert not fixed, f"{page}: figures without a description of what they show: {fixed[:3]}"
 
 
 @pytest.mark.parametrize("page", NOTEBOOKS, ids=page_id)
@@ -222,6 +237,49 @@ def find_chromium() -> str | None:
         if path:
             return path
     return "/usr/bin/chromium" if Path("/usr/bin/chromium").is_file() else None
+
+
+AXE = ROOT / "_build" / "axe" / "node_modules" / "axe-core" / "axe.min.js"   # `make test` installs it
+AXE_IMPACTS = ("serious", "critical")   # the audit fails a page on these
+
+
+def axe_audit(pg, page: str, width: int) -> list[dict]:
+    """Run axe-core (pinned, tools/axe/package-lock.json) on the open page; save its report to
+    ``_build/screenshots/axe/<page>-<width>.json``; return the serious and critical violations."""
+    import json
+
+    if not AXE.is_file():
+        msg = f"axe-core is not installed ({AXE}); `make test` installs it (npm ci, tools/axe)"
+        if os.environ.get("CI"):
+            pytest.fail(msg)
+        pytest.skip(msg)
+    if not pg.evaluate("() => !!window.axe"):
+        pg.add_script_tag(path=str(AXE))
+    result = pg.evaluate("""() => axe.run(document, {resultTypes: ['violations']}).then(r => ({
+        version: r.testEngine.version, url: r.url,
+        violations: r.violations.map(v => ({id: v.id, impact: v.impact, help: v.help, helpUrl: v.helpUrl,
+            nodes: v.nodes.map(n => ({target: n.target, html: n.html.slice(0, 300), summary: n.failureSummary}))}))
+    }))""")
+    out = SHOTS / "axe"
+    out.mkdir(parents=True, exist_ok=True)
+    (out / f"{page_id(page)}-{width}.json").write_text(json.dumps(result, indent=1, ensure_ascii=False))
+    return [v for v in result["violations"] if v["impact"] in AXE_IMPACTS]
+
+
+# every block wider than its box at this width: it must scroll sideways (overflow-x auto or scroll),
+# show the cue (class orrc-overflows and a shadow on the side with more) and take keyboard focus
+_OVERFLOWING = """() => Array.from(document.querySelectorAll(
+    '#main-content div.math, #main-content mjx-container[display="true"], #main-content pre, #main-content table'))
+  .filter(e => e.getBoundingClientRect().width > 0)
+  .map(e => {
+    let box = e;   // the element itself, or the first ancestor that clips it
+    while (box && box.scrollWidth <= box.clientWidth + 1 && box.id !== 'main-content') { box = box.parentElement; }
+    return box && box.id !== 'main-content' ? box : null;
+  })
+  .filter((b, i, all) => b && all.indexOf(b) === i)
+  .map(b => { const s = getComputedStyle(b); return {
+    html: b.outerHTML.slice(0, 100), overflowX: s.overflowX, cue: b.classList.contains('orrc-overflows'),
+    shadow: s.boxShadow, tabindex: b.getAttribute('tabindex'), label: b.getAttribute('aria-label')}; })"""
 
 
 HOW_TO_ENABLE = ("the browser tests need Chromium: `sudo apt-get install chromium` (Debian/Ubuntu), "
@@ -363,6 +421,16 @@ def test_page_in_a_real_browser(chromium, book, page):
             # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
             overflow = pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
             assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
+            # every block wider than its box scrolls in it, with a visible cue, and takes keyboard focus
+            pg.evaluate("() => window.orrcMarkOverflow && window.orrcMarkOverflow()")
+            for box in pg.evaluate(_OVERFLOWING):
+                assert box["overflowX"] in ("auto", "scroll"), f"{page} at {width} px: clipped, no scrolling: {box}"
+                assert box["cue"] and box["shadow"] != "none", f"{page} at {width} px: scrolls without a cue: {box}"
+                assert box["tabindex"] == "0" and box["label"], f"{page} at {width} px: not keyboard-scrollable: {box}"
+            # the accessibility audit: no serious or critical violation (report beside the screenshots)
+            bad = axe_audit(pg, page, width)
+            assert not bad, f"{page} at {width} px: axe-core: " + "; ".join(
+                f"{v['impact']} {v['id']} ({v['help']}): {[n['target'] for n in v['nodes'][:3]]}" for v in bad)
             # every figure legible: shown at >= 100 px per figure inch (its fonts of >= 9 pt at >= 12.5 px)
             # and inside the screen
             for fig in pg.evaluate(_SHOWN_IMAGES):
