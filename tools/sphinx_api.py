@@ -34,7 +34,7 @@ MODULES = (
     "orrc", "orrc.systems", "orrc.parametric", "orrc.costs", "orrc.disturbances", "orrc.examples",
     "orrc.controllers", "orrc.simulate", "orrc.metrics", "orrc.sweep", "orrc.config",
     "orrc.theory", "orrc.checks", "orrc.certify", "orrc.estimation", "orrc.solvers", "orrc.tradeoff",
-    "orrc.comparison", "orrc.viz", "orrc.viz.figures", "orrc.viz.plots", "orrc.viz.theory_plots",
+    "orrc.comparison", "orrc.viz", "orrc.viz.figures", "orrc.viz.describe", "orrc.viz.plots", "orrc.viz.theory_plots",
     "orrc.viz.comparison_plots", "orrc.viz.unknown_plots", "orrc.viz.minmax_plots",
 )
 
