@@ -253,9 +253,10 @@ def axe_audit(pg, page: str, width: int) -> list[dict]:
         if os.environ.get("CI"):
             pytest.fail(msg)
         pytest.skip(msg)
+    # preload: false, else axe-core fetches the stylesheets again (refused from file://: console errors)
     if not pg.evaluate("() => !!window.axe"):
         pg.add_script_tag(path=str(AXE))
-    result = pg.evaluate("""() => axe.run(document, {resultTypes: ['violations']}).then(r => ({
+    result = pg.evaluate("""() => axe.run(document, {resultTypes: ['violations'], preload: false}).then(r => ({
         version: r.testEngine.version, url: r.url,
         violations: r.violations.map(v => ({id: v.id, impact: v.impact, help: v.help, helpUrl: v.helpUrl,
             nodes: v.nodes.map(n => ({target: n.target, html: n.html.slice(0, 300), summary: n.failureSummary}))}))
@@ -266,20 +267,30 @@ def axe_audit(pg, page: str, width: int) -> list[dict]:
     return [v for v in result["violations"] if v["impact"] in AXE_IMPACTS]
 
 
-# every block wider than its box at this width: it must scroll sideways (overflow-x auto or scroll),
-# show the cue (class orrc-overflows and a shadow on the side with more) and take keyboard focus
-_OVERFLOWING = """() => Array.from(document.querySelectorAll(
-    '#main-content div.math, #main-content mjx-container[display="true"], #main-content pre, #main-content table'))
-  .filter(e => e.getBoundingClientRect().width > 0)
-  .map(e => {
-    let box = e;   // the element itself, or the first ancestor that clips it
-    while (box && box.scrollWidth <= box.clientWidth + 1 && box.id !== 'main-content') { box = box.parentElement; }
-    return box && box.id !== 'main-content' ? box : null;
-  })
-  .filter((b, i, all) => b && all.indexOf(b) === i)
-  .map(b => { const s = getComputedStyle(b); return {
-    html: b.outerHTML.slice(0, 100), overflowX: s.overflowX, cue: b.classList.contains('orrc-overflows'),
-    shadow: s.boxShadow, tabindex: b.getAttribute('tabindex'), label: b.getAttribute('aria-label')}; })"""
+# every element of the text (math, code, tables, paragraphs) that runs past the text column at this
+# width must sit in a box that scrolls sideways (overflow-x auto or scroll), shows the cue (class
+# orrc-overflows and a shadow on the side with more) and takes keyboard focus: the nearest ancestor
+# (or itself) that clips it; reaching the column itself means content cut off without a cue
+_OVERFLOWING = """() => {
+  const column = document.querySelector('#main-content article') || document.querySelector('#main-content');
+  const edge = column.getBoundingClientRect();
+  const boxes = [];
+  column.querySelectorAll('div.math, mjx-container, pre, table, p, code, img').forEach(e => {
+    const r = e.getBoundingClientRect();
+    if (r.width === 0 || (r.right <= edge.right + 1 && r.left >= edge.left - 1)) { return; }
+    // the nearest ancestor that cuts it off: one that clips (overflow applies to block boxes only,
+    // never to an inline element) and that the element runs past
+    const clips = b => getComputedStyle(b).overflowX !== 'visible' && getComputedStyle(b).display !== 'inline';
+    const past = b => { const q = b.getBoundingClientRect(); return r.right > q.right + 1 || r.left < q.left - 1; };
+    let box = e.parentElement;
+    while (box !== column && !(clips(box) && past(box))) { box = box.parentElement; }
+    if (!boxes.includes(box)) { boxes.push(box); }
+  });
+  return boxes.map(b => { const s = getComputedStyle(b); return {
+    html: b === column ? 'the text column itself' : b.outerHTML.slice(0, 100), overflowX: s.overflowX,
+    cue: b.classList.contains('orrc-overflows'), shadow: s.boxShadow, tabindex: b.getAttribute('tabindex'),
+    label: b.getAttribute('aria-label')}; });
+}"""
 
 
 HOW_TO_ENABLE = ("the browser tests need Chromium: `sudo apt-get install chromium` (Debian/Ubuntu), "

@@ -7,7 +7,9 @@ Loaded by ``_config.yml`` (``sphinx: local_extensions: {sphinx_a11y: tools}``). 
    each box that does (class ``orrc-overflows``: a shadow at the edge where more content waits,
    a visible scroll bar) and makes it reachable from the keyboard (``tabindex="0"``, a ``region``
    with a label), as the accessibility audit asks of scrollable regions; colours where the theme's
-   contrast falls short of WCAG AA;
+   contrast falls short of WCAG AA; a name for each control that matches what it shows (label in
+   name) and for the sidebar's section toggles; the list of citations without the list role whose
+   entries are not list items (:func:`_roles`);
 2. writes the status column of the execution-times table (``{nb-exec-table}``, which myst-nb
    fills with the emoji ✅ and ❌, placeholder boxes where the reader's browser lacks an emoji font)
    as a small inline SVG mark and the word "passed" or "failed".
@@ -53,6 +55,16 @@ class StatusMarks(SphinxPostTransform):
                 text.parent.replace(text, new)
 
 
+def _roles(app, pagename, templatename, context, doctree) -> None:
+    """The list of citations without the ARIA roles docutils gives it (``role="list"`` around
+    ``doc-biblioentry`` entries holding ``doc-backlink`` links: a list whose children are not list
+    items, a critical finding of the audit); the entries stay a ``div`` each, as they look."""
+    body = context.get("body")
+    if body and 'class="citation-list"' in body:
+        context["body"] = (body.replace('<div role="list" class="citation-list">', '<div class="citation-list">')
+                           .replace(' role="doc-biblioentry"', ""))
+
+
 def _static_path(app) -> None:
     if str(STATIC) not in app.config.html_static_path:
         app.config.html_static_path.append(str(STATIC))
@@ -63,4 +75,5 @@ def setup(app):
     app.add_css_file("orrc-a11y.css")
     app.add_js_file("orrc-a11y.js", loading_method="defer")
     app.add_post_transform(StatusMarks)
+    app.connect("html-page-context", _roles)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

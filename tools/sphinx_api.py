@@ -155,8 +155,18 @@ def inline_colon(lines: list[str]) -> bool:
 _BYPASS: dict = {}
 
 
+_CODE = re.compile(r"(``.+?``|:[\w:]+:`[^`]*`|`[^`]*`)")
+
+
+def literal_bars(lines: list[str]) -> list[str]:
+    """``|x|`` (an absolute value, a norm) is reStructuredText's substitution syntax: every bar
+    outside code and roles is escaped, so that it shows as written."""
+    return ["".join(part if i % 2 else part.replace("|", "\\|") for i, part in enumerate(_CODE.split(line)))
+            for line in lines]
+
+
 def _process_docstring(app, what, name, obj, options, lines) -> None:
-    fixed = absolute_roles(lines, name, obj)
+    fixed = literal_bars(absolute_roles(lines, name, obj))
     if what in ("class", "exception"):
         fixed = implicit_attributes(fixed)
     lines[:] = entries_without_types(fixed)
