@@ -85,7 +85,7 @@ def describe(fig) -> str:
     """A short text alternative of a matplotlib figure, from its titles, axis labels, scales and
     series names (call it before the figure is rendered and closed). Colour bars and axes without
     anything drawn are left out; twin axes are described with their panel."""
-    from .figures import _figure_arg
+    from .legibility import _figure_arg
 
     fig = _figure_arg("fig", fig)
     panels = []

@@ -38,6 +38,7 @@ import uuid
 from .._validate import OrrcValueError, as_int, check_size
 from .describe import frame_description
 from .figures import DPI, figure_to_png, picture_html, render  # noqa: F401 (figure_to_png: re-exported)
+from .kernel import in_kernel
 from .live import _fmt, check_figure
 
 _JS = """
@@ -69,16 +70,6 @@ def _as_switch(name: str, value) -> bool:
     if not isinstance(value, bool):
         raise OrrcValueError(f"{name} must be True, False or None (decided from where it runs); got {value!r}")
     return value
-
-
-def in_kernel() -> bool:
-    """True inside a Jupyter kernel (an IPython shell with a kernel), where a live widget can be shown."""
-    try:
-        from IPython import get_ipython
-    except ImportError:  # pragma: no cover - IPython comes with the book's dependencies
-        return False
-    ip = get_ipython()
-    return ip is not None and hasattr(ip, "kernel")
 
 
 class Explorer:
