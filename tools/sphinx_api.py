@@ -295,7 +295,15 @@ def _missing_reference(app, env, node, contnode):
     return None
 
 
+#: abbreviations after which autosummary's one-line summary must not stop ("x_{t+1} = ... (Eq." is no
+#: sentence): the paper's equations, sections and figures are cited this way in every docstring
+ABBREVIATIONS = ("Eq.", "Eqs.", "Sec.", "Fig.", "Alg.", "cf.", "resp.", "vs.")
+
+
 def setup(app):
+    from sphinx.ext import autosummary
+
+    autosummary.WELL_KNOWN_ABBREVIATIONS = tuple(dict.fromkeys(autosummary.WELL_KNOWN_ABBREVIATIONS + ABBREVIATIONS))
     app.connect("autodoc-process-docstring", _process_docstring, priority=400)  # before napoleon (500)
     app.connect("autodoc-process-docstring", _restore_docstring, priority=600)  # after napoleon
     app.connect("missing-reference", _missing_reference)
