@@ -467,6 +467,7 @@ def test_page_in_a_real_browser(chromium, book, page):
                 if top == 0:
                     continue
                 before = [h.get_attribute("src") for h in handles]
+                before_alt = [h.get_attribute("alt") for h in handles]
                 before_label = box.locator("output").nth(j).inner_text()
                 start = int(slider.input_value())
                 slider.fill(str(top if start != top else 0))
@@ -474,6 +475,12 @@ def test_page_in_a_real_browser(chromium, book, page):
                     pg.wait_for_function("([el, s]) => el.src !== s", arg=[h, src], timeout=5_000)
                     assert pg.evaluate("(el) => el.naturalWidth > 0", h), f"{page}: new frame broken"
                 assert box.locator("output").nth(j).inner_text() != before_label, f"{page}: label did not follow"
+                # the text alternative follows the frame: the new frame's parameter value is in it
+                name, label = slider.get_attribute("data-name"), box.locator("output").nth(j).inner_text()
+                for h, alt in zip(handles, before_alt):
+                    now = h.get_attribute("alt")
+                    assert now != alt and f"{name} = {label}" in now, (
+                        f"{page}: the image's text alternative did not follow the slider ({name} = {label}): {now[:120]}")
                 slider.fill(str(start))  # and back
                 for h, src in zip(handles, before):
                     pg.wait_for_function("([el, s]) => el.src === s", arg=[h, src], timeout=5_000)
