@@ -12,8 +12,12 @@ set; tests/test_chapters.py checks the executed notebooks of the same build. The
 * in headless Chromium (Playwright driving the SYSTEM Chromium, never a downloaded
   one): every page of ``_toc.yml`` opens from ``file://`` without console errors or
   network requests, its math is typeset, its images have loaded, no cell shows an
-  error, and every frame slider changes its figure. Screenshots at 1366 px and
-  390 px go to ``_build/screenshots/<page>-1366.png`` / ``-390.png``.
+  error, and every frame slider changes its figure and its text alternative. Screenshots at 1366 px
+  and 390 px go to ``_build/screenshots/<page>-1366.png`` / ``-390.png``; at both widths the
+  axe-core audit finds no serious or critical violation (reports in ``_build/screenshots/axe/``)
+  and every element that runs past the text column sits in a box that scrolls, shows a cue and
+  takes keyboard focus (issue 24). Every image has a text alternative; the execution table's
+  status marks need no emoji font.
 
 No Chromium: the browser tests are skipped with a message saying how to enable them,
 except when ``CI`` is set, where a missing browser is a failure.
