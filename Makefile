@@ -10,6 +10,10 @@ LAB_STAMP := $(VENV)/.lab-installed
 LAB_SETTINGS := $(VENV)/share/jupyter/lab/settings
 PORT ?= 8000
 LAB_ARGS ?=
+# axe-core (pinned in tools/axe/package-lock.json, from the npm registry) for the accessibility audit
+# of the browser tests; installed into the build folder, never downloaded at run time
+AXE_DIR := _build/axe
+AXE := $(AXE_DIR)/node_modules/axe-core/axe.min.js
 
 .PHONY: book test lab serve bench test-kernels clean book-student assignments
 
@@ -34,8 +38,14 @@ book-student: $(STAMP)
 assignments: $(STAMP)
 	set -eo pipefail; $(PY) -m tools.assignments
 
+$(AXE): tools/axe/package.json tools/axe/package-lock.json
+	mkdir -p $(AXE_DIR)
+	cp tools/axe/package.json tools/axe/package-lock.json $(AXE_DIR)/
+	npm ci --prefix $(AXE_DIR) --no-audit --no-fund --ignore-scripts --loglevel=error
+	touch $(AXE)
+
 # the whole suite; it builds its own, shortened, book into _build/test (never _build/html)
-test: $(STAMP)
+test: $(STAMP) $(AXE)
 	set -eo pipefail; ORRC_QUICK=1 $(PY) -m pytest -q tests
 
 # JupyterLab (pinned, requirements-lab.txt) in the same .venv, chapters open as notebooks

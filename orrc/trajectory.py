@@ -23,8 +23,10 @@ from .costs import QuadraticCost, StageCost
 class Trajectory:
     """The result of :func:`simulate`.
 
-    x : (T+1, n) states x_0..x_T          u : (T, m) inputs
-    w : (T, n) the disturbances that acted  costs : (T,) c_t(x_t, u_t)
+    x : (T+1, n) states x_0..x_T
+    u : (T, m) inputs
+    w : (T, n) the disturbances that acted
+    costs : (T,) c_t(x_t, u_t)
     w_all : (T + max(M_w, 1), n) the disturbance record the controller previewed
         (w plus the preview tail, zeros where the given data ran out)
     sigma : (T+1,) σ(x_t)
@@ -33,8 +35,9 @@ class Trajectory:
     value_valid : (T,) bool, True where ``values`` holds the V_M of a successful solve (None with
         ``values``); the checks of :mod:`orrc.checks` refuse a trajectory where it is not all True
     success : (T,) False at the steps whose solve failed (True where the controller solved
-        nothing, e.g. the clairvoyant's steps after t = 0); status : list of solver statuses (a
-        step rescued by a retry reads e.g. "SQP cold start: Solve_Succeeded (after SQP warm start: ...)")
+        nothing, e.g. the clairvoyant's steps after t = 0)
+    status : list of solver statuses (a step rescued by a retry reads e.g. "SQP cold start:
+        Solve_Succeeded (after SQP warm start: ...)")
     solver : list, per step, the solver that produced the step ("lq", "sqp", "ipopt"; for a
         failed step the last one tried; None where nothing was solved); :attr:`solver_counts`
         counts them (e.g. how often SQP fell back to IPOPT)

@@ -12,8 +12,12 @@ set; tests/test_chapters.py checks the executed notebooks of the same build. The
 * in headless Chromium (Playwright driving the SYSTEM Chromium, never a downloaded
   one): every page of ``_toc.yml`` opens from ``file://`` without console errors or
   network requests, its math is typeset, its images have loaded, no cell shows an
-  error, and every frame slider changes its figure. Screenshots at 1366 px and
-  390 px go to ``_build/screenshots/<page>-1366.png`` / ``-390.png``.
+  error, and every frame slider changes its figure and its text alternative. Screenshots at 1366 px
+  and 390 px go to ``_build/screenshots/<page>-1366.png`` / ``-390.png``; at both widths the
+  axe-core audit finds no serious or critical violation (reports in ``_build/screenshots/axe/``)
+  and every element that runs past the text column sits in a box that scrolls, shows a cue and
+  takes keyboard focus (issue 24). Every image has a text alternative; the execution table's
+  status marks need no emoji font.
 
 No Chromium: the browser tests are skipped with a message saying how to enable them,
 except when ``CI`` is set, where a missing browser is a failure.
@@ -192,7 +196,22 @@ def test_execution_times_page_lists_every_chapter(book):
         cells = [re.sub(r"<.*?>", "", c).strip() for c in re.findall(r"<td.*?</td>", row, re.S)]
         seconds = float(cells[3])
         assert 0 < seconds < 600, f"{page}: run time {seconds}"
-        assert cells[4] == "✅", f"{page}: status {cells[4]}"
+        assert cells[4] == "passed", f"{page}: status {cells[4]}"
+    # the status marks need no emoji font: an inline SVG and a word (tools/sphinx_a11y.py)
+    assert not re.search("[\U0001F000-\U0001FAFF\u2705\u274C]", text), "an emoji glyph is left on the page"
+    assert text.count('class="orrc-status-mark"') == len(NOTEBOOKS)
+
+
+@pytest.mark.parametrize("page", PAGES, ids=page_id)
+def test_every_image_has_a_text_alternative(book, page):
+    """No image announced as just "figure": each figure's alt says what it shows (orrc.viz.describe);
+    an image without one must be marked decorative (alt="")."""
+    text = (HTML / f"{page}.html").read_text(encoding="utf-8")
+    imgs = re.findall(r"<img\b[^>]*>", text)
+    missing = [i[:120] for i in imgs if not re.search(r'\balt="', i)]
+    assert not missing, f"{page}: images without an alt attribute: {missing[:3]}"
+    fixed = [i[:120] for i in imgs if re.search(r'\balt="(figure|image|plot)?"', i, re.I) and "orrc-img" in i]
+    assert not fixed, f"{page}: figures without a description of what they show: {fixed[:3]}"
 
 
 @pytest.mark.parametrize("page", NOTEBOOKS, ids=page_id)
@@ -222,6 +241,60 @@ def find_chromium() -> str | None:
         if path:
             return path
     return "/usr/bin/chromium" if Path("/usr/bin/chromium").is_file() else None
+
+
+AXE = ROOT / "_build" / "axe" / "node_modules" / "axe-core" / "axe.min.js"   # `make test` installs it
+AXE_IMPACTS = ("serious", "critical")   # the audit fails a page on these
+
+
+def axe_audit(pg, page: str, width: int) -> list[dict]:
+    """Run axe-core (pinned, tools/axe/package-lock.json) on the open page; save its report to
+    ``_build/screenshots/axe/<page>-<width>.json``; return the serious and critical violations."""
+    import json
+
+    if not AXE.is_file():
+        msg = f"axe-core is not installed ({AXE}); `make test` installs it (npm ci, tools/axe)"
+        if os.environ.get("CI"):
+            pytest.fail(msg)
+        pytest.skip(msg)
+    # preload: false, else axe-core fetches the stylesheets again (refused from file://: console errors)
+    if not pg.evaluate("() => !!window.axe"):
+        pg.add_script_tag(path=str(AXE))
+    result = pg.evaluate("""() => axe.run(document, {resultTypes: ['violations'], preload: false}).then(r => ({
+        version: r.testEngine.version, url: r.url,
+        violations: r.violations.map(v => ({id: v.id, impact: v.impact, help: v.help, helpUrl: v.helpUrl,
+            nodes: v.nodes.map(n => ({target: n.target, html: n.html.slice(0, 300), summary: n.failureSummary}))}))
+    }))""")
+    out = SHOTS / "axe"
+    out.mkdir(parents=True, exist_ok=True)
+    (out / f"{page_id(page)}-{width}.json").write_text(json.dumps(result, indent=1, ensure_ascii=False))
+    return [v for v in result["violations"] if v["impact"] in AXE_IMPACTS]
+
+
+# every element of the text (math, code, tables, paragraphs) that runs past the text column at this
+# width must sit in a box that scrolls sideways (overflow-x auto or scroll), shows the cue (class
+# orrc-overflows and a shadow on the side with more) and takes keyboard focus: the nearest ancestor
+# (or itself) that clips it; reaching the column itself means content cut off without a cue
+_OVERFLOWING = """() => {
+  const column = document.querySelector('#main-content article') || document.querySelector('#main-content');
+  const edge = column.getBoundingClientRect();
+  const boxes = [];
+  column.querySelectorAll('div.math, mjx-container, pre, table, p, code, img').forEach(e => {
+    const r = e.getBoundingClientRect();
+    if (r.width === 0 || (r.right <= edge.right + 1 && r.left >= edge.left - 1)) { return; }
+    // the nearest ancestor that cuts it off: one that clips (overflow applies to block boxes only,
+    // never to an inline element) and that the element runs past
+    const clips = b => getComputedStyle(b).overflowX !== 'visible' && getComputedStyle(b).display !== 'inline';
+    const past = b => { const q = b.getBoundingClientRect(); return r.right > q.right + 1 || r.left < q.left - 1; };
+    let box = e.parentElement;
+    while (box !== column && !(clips(box) && past(box))) { box = box.parentElement; }
+    if (!boxes.includes(box)) { boxes.push(box); }
+  });
+  return boxes.map(b => { const s = getComputedStyle(b); return {
+    html: b === column ? 'the text column itself' : b.outerHTML.slice(0, 100), overflowX: s.overflowX,
+    cue: b.classList.contains('orrc-overflows'), shadow: s.boxShadow, tabindex: b.getAttribute('tabindex'),
+    label: b.getAttribute('aria-label')}; });
+}"""
 
 
 HOW_TO_ENABLE = ("the browser tests need Chromium: `sudo apt-get install chromium` (Debian/Ubuntu), "
@@ -363,6 +436,16 @@ def test_page_in_a_real_browser(chromium, book, page):
             # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
             overflow = pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
             assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
+            # every block wider than its box scrolls in it, with a visible cue, and takes keyboard focus
+            pg.evaluate("() => window.orrcMarkOverflow && window.orrcMarkOverflow()")
+            for box in pg.evaluate(_OVERFLOWING):
+                assert box["overflowX"] in ("auto", "scroll"), f"{page} at {width} px: clipped, no scrolling: {box}"
+                assert box["cue"] and box["shadow"] != "none", f"{page} at {width} px: scrolls without a cue: {box}"
+                assert box["tabindex"] == "0" and box["label"], f"{page} at {width} px: not keyboard-scrollable: {box}"
+            # the accessibility audit: no serious or critical violation (report beside the screenshots)
+            bad = axe_audit(pg, page, width)
+            assert not bad, f"{page} at {width} px: axe-core: " + "; ".join(
+                f"{v['impact']} {v['id']} ({v['help']}): {[n['target'] for n in v['nodes'][:3]]}" for v in bad)
             # every figure legible: shown at >= 100 px per figure inch (its fonts of >= 9 pt at >= 12.5 px)
             # and inside the screen
             for fig in pg.evaluate(_SHOWN_IMAGES):
@@ -388,6 +471,7 @@ def test_page_in_a_real_browser(chromium, book, page):
                 if top == 0:
                     continue
                 before = [h.get_attribute("src") for h in handles]
+                before_alt = [h.get_attribute("alt") for h in handles]
                 before_label = box.locator("output").nth(j).inner_text()
                 start = int(slider.input_value())
                 slider.fill(str(top if start != top else 0))
@@ -395,6 +479,12 @@ def test_page_in_a_real_browser(chromium, book, page):
                     pg.wait_for_function("([el, s]) => el.src !== s", arg=[h, src], timeout=5_000)
                     assert pg.evaluate("(el) => el.naturalWidth > 0", h), f"{page}: new frame broken"
                 assert box.locator("output").nth(j).inner_text() != before_label, f"{page}: label did not follow"
+                # the text alternative follows the frame: the new frame's parameter value is in it
+                name, label = slider.get_attribute("data-name"), box.locator("output").nth(j).inner_text()
+                for h, alt in zip(handles, before_alt):
+                    now = h.get_attribute("alt")
+                    assert now != alt and f"{name} = {label}" in now, (
+                        f"{page}: the image's text alternative did not follow the slider ({name} = {label}): {now[:120]}")
                 slider.fill(str(start))  # and back
                 for h, src in zip(handles, before):
                     pg.wait_for_function("([el, s]) => el.src === s", arg=[h, src], timeout=5_000)

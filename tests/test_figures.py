@@ -100,7 +100,7 @@ def test_a_small_figure_has_one_rendering():
     fig.subplots().plot([0, 1], [0, 1])
     wide, narrow = figures.render(fig)
     assert narrow is None and png_size(wide)[0][0] <= 300
-    html = figures.picture_html(wide, None)
+    html = figures.picture_html(wide, None, alt="a line from (0, 0) to (1, 1)")
     assert html.count("<img") == 1 and "@container" not in html
 
 

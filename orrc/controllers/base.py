@@ -21,7 +21,7 @@ callable ``fast_input(x_t, w_preview) -> u_t`` given exactly what an :class:`Obs
 describes every such step (its ``status``, ``solver``, ``value_deferred``; its ``u`` is ignored).
 :func:`orrc.simulate` then calls ``fast_input`` instead of :meth:`Controller.control` and builds no
 Observation or Decision per step (two small objects were a third of the exact LQ path's step). The
-information pattern is the same. A controller offers it only when its own :meth:`control` would
+information pattern is the same. A controller offers it only when its own :meth:`~Controller.control` would
 return that Decision at every such step (:class:`~orrc.PreviewRHC` on its exact LQ path, and not in a
 subclass that overrides ``control``).
 

@@ -62,6 +62,7 @@ class EstimateThenControl(Controller):
     Parameters
     ----------
     model : what the controller knows a priori:
+
         * a :class:`~orrc.ParametricSystem` (f known up to θ); ``ParametricSystem.linear(n, m)``
           for a linear system with (A, B) unknown. Default estimator: least squares
           (:func:`~orrc.estimation.least_squares_linear` or

@@ -135,8 +135,8 @@ class GPC(DisturbanceAction):
     H steps), driven by the recovered disturbances, and v_t(M) = −K y_t(M) + Σ_i M_i w_{t−i}. It
     is a convex quadratic in M; its gradient is exact (forward sensitivities).
 
-    Parameters and their source
-    ---------------------------
+    Parameters
+    ----------
     H : the memory (default 10: this package's choice, not the paper's). The paper's Theorem 5.1
         takes H = γ⁻¹ log(T κ²) for a (κ, γ)-strongly stable K, which grows with T.
     lr : the step size η (default 0.05: this package's choice for disturbances of size about 1; the

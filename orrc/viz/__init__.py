@@ -6,6 +6,7 @@ legible at a phone's width in the book and in JupyterLab.
 """
 from . import comparison_plots, figures, minmax_plots, plots, theory_plots, unknown_plots
 from .explore import Explorer, explore, figure_to_png
+from .kernel import in_kernel
 from .live import LiveView
 from .notebook import glue
 
@@ -13,14 +14,5 @@ __all__ = ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue"
            "unknown_plots", "minmax_plots"]
 
 
-def _in_kernel() -> bool:
-    try:
-        from IPython import get_ipython
-    except ImportError:  # pragma: no cover
-        return False
-    ip = get_ipython()
-    return ip is not None and hasattr(ip, "kernel")
-
-
-if _in_kernel():
+if in_kernel():
     figures.install()

@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from .._validate import OrrcValueError
-from .plots import FONT
+from .style import FONT
 
 
 def _constants(name: str, c):

@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError
 from .figures import legend_below
-from .plots import _figure, _nonempty_dict, _trajs, controller_color
+from .style import _figure, _nonempty_dict, _trajs, controller_color
 
 __all__ = ["metric_bars", "preview_decay", "running_cost"]
 

@@ -36,7 +36,9 @@ import math
 import uuid
 
 from .._validate import OrrcValueError, as_int, check_size
+from .describe import frame_description
 from .figures import DPI, figure_to_png, picture_html, render  # noqa: F401 (figure_to_png: re-exported)
+from .kernel import in_kernel
 from .live import _fmt, check_figure
 
 _JS = """
@@ -56,7 +58,8 @@ _JS = """
     });
     var k = key.join('_'), head = 'data:' + frames.mime + ';base64,';
     wide.src = head + frames.images[k];
-    if (narrow && frames.narrow) { narrow.src = head + frames.narrow[k]; }
+    wide.alt = frames.alts[k];
+    if (narrow && frames.narrow) { narrow.src = head + frames.narrow[k]; narrow.alt = frames.alts[k]; }
   }
   sliders.forEach(function (s) { s.addEventListener('input', update); });
 })();
@@ -69,27 +72,19 @@ def _as_switch(name: str, value) -> bool:
     return value
 
 
-def in_kernel() -> bool:
-    """True inside a Jupyter kernel (an IPython shell with a kernel), where a live widget can be shown."""
-    try:
-        from IPython import get_ipython
-    except ImportError:  # pragma: no cover - IPython comes with the book's dependencies
-        return False
-    ip = get_ipython()
-    return ip is not None and hasattr(ip, "kernel")
-
-
 class Explorer:
     """The result of :func:`explore`: displays as the live widget (``live``) or the static frames
     (``static``), or both when both were asked for.
 
-    ``frames``: ``{"images": ..., "narrow": ...}`` of the static frames and ``html`` their HTML (None
-    without static frames); ``view``: the :class:`orrc.viz.live.LiveView` and ``widget`` its
+    ``frames``: ``{"images": ..., "narrow": ...}`` of the static frames, ``alts`` their text
+    alternatives (key -> :func:`orrc.viz.describe.frame_description`: the frame's parameter values and
+    what the figure shows) and ``html`` their HTML (None without static frames); ``view``: the :class:`orrc.viz.live.LiveView` and ``widget`` its
     ipywidget (None without the live widget).
     """
 
     def __init__(self, plot, params: dict, initial: dict, dpi: int, live: bool, static: bool):
         self.plot, self.params, self.initial, self.dpi = plot, params, initial, dpi
+        self.alts: dict | None = {} if static else None
         self.frames = self._render_frames() if static else None
         self.html = self._html() if static else None
         if live:
@@ -107,7 +102,9 @@ class Explorer:
         for idx in itertools.product(*(range(len(self.params[k])) for k in names)):
             kwargs = {k: self.params[k][i] for k, i in zip(names, idx)}
             key = "_".join(map(str, idx))
-            w, n = render(check_figure(self.plot(**kwargs), kwargs), self.dpi)
+            fig = check_figure(self.plot(**kwargs), kwargs)
+            self.alts[key] = frame_description(kwargs, fig)   # before rendering, which closes the figure
+            w, n = render(fig, self.dpi)
             wide[key] = base64.b64encode(w).decode("ascii")
             narrow[key] = None if n is None else base64.b64encode(n).decode("ascii")
         has_narrow = all(v is not None for v in narrow.values())
@@ -129,11 +126,11 @@ class Explorer:
                 f'data-labels="{html.escape("|".join(labels))}" aria-label="{html.escape(k)}">'
                 f'<output for="{sid}">{html.escape(labels[start[j]])}</output></label>')
         key = "_".join(map(str, start))
-        data = json.dumps({"mime": "image/png", **self.frames})
+        data = json.dumps({"mime": "image/png", **self.frames, "alts": self.alts})
         narrow = self.frames["narrow"]
         first = picture_html(base64.b64decode(self.frames["images"][key]),
                              None if narrow is None else base64.b64decode(narrow[key]),
-                             alt="figure", cls="orrc-frame", uid=f"{uid}-fig")
+                             alt=self.alts[key], cls="orrc-frame", uid=f"{uid}-fig")
         return (f'<div class="orrc-frames" id="{uid}">'
                 + "".join(rows) + first
                 + f'<script type="application/json" class="orrc-frame-data">{data}</script>'

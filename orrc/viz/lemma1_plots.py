@@ -15,7 +15,7 @@ from matplotlib.figure import Figure
 from .. import theory
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from ._theory_common import _constants, _legend_below, _margins, _message, _symlog
-from .plots import FONT, _figure, _nonempty_dict
+from .style import FONT, _figure, _nonempty_dict
 
 __all__ = ["pareto_curves", "horizon_threshold", "lemma1_check"]
 

@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from ._theory_common import _finish, _margins, _message
-from .plots import FONT, _axes, _figure, _nonempty_dict
+from .style import FONT, _axes, _figure, _nonempty_dict
 
 __all__ = ["lemma2_coefficients", "bounds_vs_actual", "lemma2_frame"]
 

@@ -84,7 +84,7 @@ class LiveView:
             s.observe(self._moved, names="index")
         self._queue = self._order(start)
         if ahead is None:                           # in a Jupyter kernel: its event loop runs the cells
-            from .explore import in_kernel
+            from .kernel import in_kernel
 
             ahead = in_kernel()
         self._loop = _running_loop() if ahead else None

@@ -21,7 +21,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
-from .plots import _figure, _nonempty_dict, _trajs, controller_color
+from .style import _figure, _nonempty_dict, _trajs, controller_color
 from .theory_plots import _message, lemma1_check
 
 __all__ = ["bounds_history", "minmax_pareto", "lemma6_check", "theorem3_growth", "controller_costs", "minmax_frame"]

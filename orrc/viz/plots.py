@@ -17,90 +17,15 @@ from matplotlib.figure import Figure
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from ..metrics import attenuation_ratio, attenuation_regret
 from .figures import legend_below
+from .style import (FONT, WIDTH, _axes, _figure, _gammas, _nonempty_dict, _style, _trajs,  # noqa: F401
+                    controller_color)
+from .tables import Table, table  # noqa: F401 (the table of the first chapters, kept here)
 
 __all__ = [
     "controller_color", "information_pattern", "cost_overview", "running_regret", "cost_vs_energy",
     "preview_gains", "cost_vs_horizon", "disturbance_panel", "rhc_frame", "solver_effort",
     "table", "Table",
 ]
-
-_NAMED = {"min-max": "tab:red", "game": "tab:purple", "h∞": "tab:purple", "zero": "0.55", "lqr": "tab:orange", "rhc": "tab:blue",
-          "preview": "tab:blue", "clairvoyant": "black", "optimum": "black"}
-_CYCLE = ["tab:blue", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
-
-
-def controller_color(label: str, index: int = 0) -> str:
-    """A stable colour per controller: zero input grey, LQR orange, preview RHC blue, min-max RHC
-    red, a game or H∞ controller purple, the clairvoyant optimum black; other labels cycle through a
-    fixed palette."""
-    low = str(label).lower()
-    for key, colour in _NAMED.items():
-        if key in low:
-            return colour
-    return _CYCLE[index % len(_CYCLE)]
-
-
-def _style(label: str) -> dict:
-    low = str(label).lower()
-    if "clairvoyant" in low or "optimum" in low:
-        return {"linestyle": "--", "linewidth": 1.3}
-    return {"linewidth": 1.5}
-
-
-def _nonempty_dict(name: str, d, what: str = "data") -> dict:
-    """``d`` when it is a non-empty dict, else an error naming ``name`` (and ``what`` its
-    values should be)."""
-    if not isinstance(d, dict) or not d:
-        raise OrrcValueError(f"{name} must be a non-empty dict label -> {what}; got "
-                             + (f"{type(d).__name__}" if not isinstance(d, dict) else "an empty dict"))
-    return d
-
-
-def _trajs(trajs) -> dict:
-    from ..simulate import Trajectory
-
-    trajs = _nonempty_dict("trajs", trajs, "Trajectory")
-    for k, v in trajs.items():
-        if not isinstance(v, Trajectory):
-            raise OrrcValueError(f"trajs[{k!r}] must be an orrc Trajectory; got {type(v).__name__}")
-    return trajs
-
-
-FONT = 9          # legends, annotations and small titles: the smallest size of the book's figures
-WIDTH = 7.4       # the widest figure (inches): 740 px at 100 dpi fits the book's 757 px column
-
-
-_FAST_MARGINS = {"left": 0.09, "right": 0.98, "bottom": 0.17, "top": 0.86, "wspace": 0.32}
-
-
-def _figure(nrows: int = 1, ncols: int = 1, width: float = WIDTH, height: float = 3.2, fast: bool = False,
-            margins: dict | None = None, **kw):
-    """A new Figure with a grid of axes, at most :data:`WIDTH` inches wide, under the constrained
-    layout. ``fast``: fixed margins instead (``margins``: keywords of ``Figure.subplots_adjust``
-    that replace the defaults), for a figure drawn on screen at this one size;
-    :func:`orrc.viz.figures.render`, which draws the book's figures at two sizes, lays a
-    fixed-margin figure out with the constrained engine anyway."""
-    fig = Figure(figsize=(min(width, WIDTH), height), layout=None if fast else "constrained")
-    axes = fig.subplots(nrows, ncols, squeeze=False, **kw)
-    if fast:
-        fig.subplots_adjust(**{**_FAST_MARGINS, **(margins or {})})
-    return fig, axes
-
-
-def _axes(ax, width: float, height: float, fast: bool = False):
-    """``(figure, axes)`` to draw on: ``ax`` and its figure when ``ax`` is given (a panel
-    of a larger figure), else a new one-panel :func:`_figure` of that size."""
-    if ax is not None:
-        return ax.figure, ax
-    fig, axes = _figure(width=width, height=height, fast=fast)
-    return fig, axes[0, 0]
-
-
-def _gammas(gammas) -> list[float]:
-    gammas = list(np.atleast_1d(gammas))
-    if not gammas:
-        raise OrrcValueError("gammas must list at least one attenuation level γ >= 0; got none")
-    return [as_float("gamma", g, minimum=0.0) for g in gammas]
 
 
 def information_pattern(t: int, M_w: int, M_c: int, T: int) -> Figure:
@@ -420,64 +345,3 @@ def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
         axes[0, 1].set_xlabel("solve time per step [ms]")
         axes[0, 1].set_ylabel("share of the steps at most")
     return fig
-
-
-def _math_html(text: str) -> str:
-    """``text`` as HTML, each ``$...$`` span typeset by MathJax (Sphinx's inline-math markup)."""
-    import html
-
-    parts = str(text).split("$")
-    if len(parts) % 2 == 0:  # an odd number of $: no math, show it as it is
-        return html.escape(str(text))
-    return "".join(html.escape(p) if i % 2 == 0 else
-                   f'<span class="math notranslate nohighlight">\\({html.escape(p)}\\)</span>'
-                   for i, p in enumerate(parts))
-
-
-class Table:
-    """A small table that displays as HTML in notebooks and in the book (a Markdown
-    table of text/markdown would not be rendered by the book's CommonMark output
-    renderer), as Markdown in ``_repr_markdown_`` and as plain text otherwise.
-    Headers and cells may hold ``$...$`` math (typeset by MathJax in the HTML)."""
-
-    def __init__(self, headers, rows):
-        self.headers, self.rows = headers, rows
-
-    def _repr_html_(self):
-        head = "".join(f"<th>{_math_html(h)}</th>" for h in self.headers)
-        body = "".join("<tr>" + "".join(f"<td>{_math_html(c)}</td>" for c in r) + "</tr>" for r in self.rows)
-        return (f'<div class="orrc-table-wrap" style="overflow-x:auto"><table class="table orrc-table">'
-                f"<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
-
-    def _repr_markdown_(self):
-        lines = ["| " + " | ".join(self.headers) + " |", "|" + "|".join("---" for _ in self.headers) + "|"]
-        return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in self.rows])
-
-    def __repr__(self):
-        plain = [[c.replace("$", "") for c in r] for r in [self.headers, *self.rows]]
-        widths = [max(len(r[i]) for r in plain) for i in range(len(self.headers))]
-        fmt = "  ".join(f"{{:<{w}}}" for w in widths)
-        return "\n".join(fmt.format(*r) for r in plain)
-
-
-def table(headers, rows, digits: int = 4) -> Table:
-    """A :class:`Table` of ``rows`` under ``headers``; floats are printed with ``digits``
-    significant digits, infinities as ∞ and −∞, NaN as a dash. ``$...$`` in a header or a
-    cell is math (e.g. ``"$R^p_T(1)$"``)."""
-    headers = [str(h) for h in headers]
-    rows = [list(r) for r in rows]
-    for i, r in enumerate(rows):
-        if len(r) != len(headers):
-            raise OrrcValueError(f"row {i} has {len(r)} cells; the table has {len(headers)} columns")
-    digits = as_int("digits", digits, minimum=1)
-
-    def fmt(v):
-        if isinstance(v, (float, np.floating)):
-            if np.isnan(v):
-                return "—"
-            if np.isinf(v):
-                return "∞" if v > 0 else "−∞"
-            return f"{v:.{digits}g}"
-        return str(v)
-
-    return Table(headers, [[fmt(v) for v in r] for r in rows])

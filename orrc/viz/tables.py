@@ -8,10 +8,72 @@ import math
 
 import numpy as np
 
+from .._validate import OrrcValueError, as_int
 from ._theory_common import _constants, _margins
-from .plots import _nonempty_dict
+from .style import _nonempty_dict
 
-__all__ = ["constants_table", "margins_table"]
+__all__ = ["Table", "table", "constants_table", "margins_table"]
+
+
+def _math_html(text: str) -> str:
+    """``text`` as HTML, each ``$...$`` span typeset by MathJax (Sphinx's inline-math markup)."""
+    import html
+
+    parts = str(text).split("$")
+    if len(parts) % 2 == 0:  # an odd number of $: no math, show it as it is
+        return html.escape(str(text))
+    return "".join(html.escape(p) if i % 2 == 0 else
+                   f'<span class="math notranslate nohighlight">\\({html.escape(p)}\\)</span>'
+                   for i, p in enumerate(parts))
+
+
+class Table:
+    """A small table that displays as HTML in notebooks and in the book (a Markdown
+    table of text/markdown would not be rendered by the book's CommonMark output
+    renderer), as Markdown in ``_repr_markdown_`` and as plain text otherwise.
+    Headers and cells may hold ``$...$`` math (typeset by MathJax in the HTML)."""
+
+    def __init__(self, headers, rows):
+        self.headers, self.rows = headers, rows
+
+    def _repr_html_(self):
+        head = "".join(f"<th>{_math_html(h)}</th>" for h in self.headers)
+        body = "".join("<tr>" + "".join(f"<td>{_math_html(c)}</td>" for c in r) + "</tr>" for r in self.rows)
+        return (f'<div class="orrc-table-wrap" style="overflow-x:auto"><table class="table orrc-table">'
+                f"<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
+
+    def _repr_markdown_(self):
+        lines = ["| " + " | ".join(self.headers) + " |", "|" + "|".join("---" for _ in self.headers) + "|"]
+        return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in self.rows])
+
+    def __repr__(self):
+        plain = [[c.replace("$", "") for c in r] for r in [self.headers, *self.rows]]
+        widths = [max(len(r[i]) for r in plain) for i in range(len(self.headers))]
+        fmt = "  ".join(f"{{:<{w}}}" for w in widths)
+        return "\n".join(fmt.format(*r) for r in plain)
+
+
+def table(headers, rows, digits: int = 4) -> Table:
+    """A :class:`Table` of ``rows`` under ``headers``; floats are printed with ``digits``
+    significant digits, infinities as ∞ and −∞, NaN as a dash. ``$...$`` in a header or a
+    cell is math (e.g. ``"$R^p_T(1)$"``)."""
+    headers = [str(h) for h in headers]
+    rows = [list(r) for r in rows]
+    for i, r in enumerate(rows):
+        if len(r) != len(headers):
+            raise OrrcValueError(f"row {i} has {len(r)} cells; the table has {len(headers)} columns")
+    digits = as_int("digits", digits, minimum=1)
+
+    def fmt(v):
+        if isinstance(v, (float, np.floating)):
+            if np.isnan(v):
+                return "—"
+            if np.isinf(v):
+                return "∞" if v > 0 else "−∞"
+            return f"{v:.{digits}g}"
+        return str(v)
+
+    return Table(headers, [[fmt(v) for v in r] for r in rows])
 
 
 def constants_table(constants, digits: int = 4):
@@ -22,8 +84,6 @@ def constants_table(constants, digits: int = 4):
     (one row each, no label column: the horizon M tells the rows apart). An
     :func:`orrc.viz.plots.table`."""
     from .._validate import OrrcValueError
-    from .plots import table
-
     if isinstance(constants, (list, tuple)):
         if not constants:
             raise OrrcValueError("constants must list at least one orrc.certify.Constants; got an empty list")
@@ -47,8 +107,6 @@ def margins_table(margins: dict, digits: int = 4):
     label of ``margins`` (label -> :class:`orrc.checks.Margins`): how many steps, whether the
     inequality holds at all of them (up to rounding), the smallest margin and the step where
     it occurs, and the median margin. An :func:`orrc.viz.plots.table`."""
-    from .plots import table
-
     margins = _nonempty_dict("margins", margins)
     rows = []
     for label, m in margins.items():

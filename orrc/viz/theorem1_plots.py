@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from ._theory_common import _finish, _margins
 from .lemma2_plots import _admissible_frame
-from .plots import FONT, _axes, _figure, _nonempty_dict
+from .style import FONT, _axes, _figure, _nonempty_dict
 
 __all__ = ["gamma_c_map", "attenuation_levels", "regret_growth", "adversary", "theorem1_frame",
            "attenuation_vs_T"]

@@ -1,0 +1,116 @@
+"""Text alternatives of figures: what a figure shows, in words, for readers who cannot see it.
+
+A screen reader announces an image by its ``alt`` text. :func:`describe` writes that text from what
+the figure itself knows, before it is rendered: the figure's title, and for each panel its title,
+what is plotted against what (the axis labels), its scales, and the names of its series (legend
+entries and labelled artists). An explorer's frame adds the parameter values of the frame
+(:func:`frame_description`). Mathtext (``$\\gamma_c$``) is read as plain text (``γ_c``).
+"""
+from __future__ import annotations
+
+import re
+
+__all__ = ["describe", "frame_description", "plain"]
+
+#: at most this many series are named per panel ("and 3 more" after them)
+MAX_SERIES = 6
+
+_GREEK = {name: chr(code) for name, code in (
+    ("alpha", 0x3B1), ("beta", 0x3B2), ("gamma", 0x3B3), ("delta", 0x3B4), ("epsilon", 0x3B5), ("zeta", 0x3B6),
+    ("eta", 0x3B7), ("theta", 0x3B8), ("kappa", 0x3BA), ("lambda", 0x3BB), ("mu", 0x3BC), ("nu", 0x3BD),
+    ("xi", 0x3BE), ("pi", 0x3C0), ("rho", 0x3C1), ("sigma", 0x3C3), ("tau", 0x3C4), ("phi", 0x3C6),
+    ("chi", 0x3C7), ("psi", 0x3C8), ("omega", 0x3C9), ("Gamma", 0x393), ("Delta", 0x394), ("Theta", 0x398),
+    ("Lambda", 0x39B), ("Sigma", 0x3A3), ("Phi", 0x3A6), ("Psi", 0x3A8), ("Omega", 0x3A9))}
+_SYMBOLS = {"infty": "∞", "leq": "≤", "le": "≤", "geq": "≥", "ge": "≥", "times": "×", "cdot": "·", "to": "→",
+            "sum": "Σ", "Vert": "‖", "|": "‖", "ell": "ℓ", "approx": "≈", "propto": "∝", "sqrt": "√", "star": "*"}
+
+
+def plain(text: str) -> str:
+    """``text`` with its mathtext spans read as plain text: ``$\\bar\\gamma_{c}$`` -> ``γ_c``,
+    ``$\\mathrm{ratio}$`` -> ``ratio``; line breaks become spaces."""
+    def math(m):
+        s = m.group(1)
+        s = re.sub(r"\\(?:mathrm|mathit|mathbf|mathcal|text|operatorname|bar|hat|tilde|overline)\s*", "", s)
+        s = re.sub(r"\\([A-Za-z]+|\|)", lambda g: _GREEK.get(g.group(1), _SYMBOLS.get(g.group(1), g.group(1))), s)
+        s = re.sub(r"[{}]", "", s).replace("\\,", " ").replace("\\;", " ").replace("\\", "")
+        return s
+
+    text = re.sub(r"\$(.+?)\$", math, str(text))
+    return re.sub(r"\s+", " ", text).strip()
+
+
+def _series(ax) -> list[str]:
+    """The names a reader would find in the panel's legend: the legend's entries, else the labels
+    of its labelled lines, collections and bars (matplotlib's private ``_...`` labels left out)."""
+    leg = ax.get_legend()
+    if leg is not None:
+        names = [t.get_text() for t in leg.get_texts()]
+    else:
+        names = [a.get_label() for a in [*ax.lines, *ax.collections, *ax.containers]
+                 if isinstance(a.get_label(), str)]
+    seen = []
+    for n in (plain(n) for n in names):
+        if n and not n.startswith("_") and n not in seen:
+            seen.append(n)
+    return seen
+
+
+def _panel(ax) -> str:
+    """One panel in words: its title, what is plotted against what, its scales, its series."""
+    title = plain(ax.get_title() or ax.get_title("left") or ax.get_title("right"))
+    x, y = plain(ax.get_xlabel()), plain(ax.get_ylabel())
+    if ax.images:
+        what = "a colour map" + (f" over {y} and {x}" if x and y else "")
+    elif y and x:
+        what = f"{y} against {x}"
+    elif y or x:
+        what = y or f"{x} on the horizontal axis"
+    elif ax.tables or not ax.axison:
+        what = "a table" if ax.tables else "a diagram"
+    else:
+        what = "a plot"
+    scales = [f"{axis} on a {scale} scale" for axis, scale in (("x", ax.get_xscale()), ("y", ax.get_yscale()))
+              if scale != "linear" and (axis == "x" and x or axis == "y" and y)]
+    text = f"{title}: {what}" if title else what
+    if scales:
+        text += f" ({', '.join(scales)})"
+    names = _series(ax)
+    if names:
+        shown = ", ".join(names[:MAX_SERIES]) + (f" and {len(names) - MAX_SERIES} more" if len(names) > MAX_SERIES else "")
+        text += f"; series: {shown}"
+    return text
+
+
+def describe(fig) -> str:
+    """A short text alternative of a matplotlib figure, from its titles, axis labels, scales and
+    series names (call it before the figure is rendered and closed). Colour bars and axes without
+    anything drawn are left out; twin axes are described with their panel."""
+    from .legibility import _figure_arg
+
+    fig = _figure_arg("fig", fig)
+    panels = []
+    for ax in fig.axes:
+        if not ax.get_visible() or ax.get_label() == "<colorbar>":
+            continue
+        drawn = ax.lines or ax.collections or ax.patches or ax.images or ax.texts or ax.tables or ax.containers
+        if not drawn and not (ax.get_title() or ax.get_ylabel()):
+            continue
+        panels.append(_panel(ax))
+    sup = getattr(fig, "_suptitle", None)
+    head = plain(sup.get_text()) if sup is not None else ""
+    legends = [plain(t.get_text()) for leg in fig.legends for t in leg.get_texts()]
+    parts = [f"{head}." if head else ""]
+    if len(panels) == 1:
+        parts.append(panels[0][0].upper() + panels[0][1:] + ".")
+    elif panels:
+        parts.append(f"{len(panels)} panels. " + " ".join(f"Panel {i}, {p}." for i, p in enumerate(panels, 1)))
+    if legends:
+        parts.append("Legend: " + ", ".join(n for n in legends if n) + ".")
+    text = " ".join(p for p in parts if p)
+    return text or "A figure without titles, labels or series."
+
+
+def frame_description(kwargs: dict, fig) -> str:
+    """The text alternative of one frame of an explorer: its parameter values, then :func:`describe`."""
+    values = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in kwargs.items())
+    return f"Frame with {values}. {describe(fig)}"
