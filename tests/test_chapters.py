@@ -4,13 +4,18 @@ same rules without a change here).
 * Every chapter executes top to bottom without an error (ORRC_QUICK=1 sizes). The session's one book
   build (the ``book`` fixture of conftest.py: forced execution of every chapter, in a fresh kernel
   each) writes each executed notebook to ``_build/test/_build/jupyter_execute/<page>.ipynb``; the
-  tests read them back. A hidden claim check (a ``remove-cell`` cell with an ``assert``) that fails
-  is a cell error, so it fails here and fails the build.
+  tests read them back. A hidden claim check (``claim(cond, "statement")`` in a ``remove-cell``
+  cell) that fails raises in the book's build, so it fails here and fails the build.
+* The chapters read as live notebooks: claims are ``claim(...)`` calls with a statement, never an
+  ``assert`` (which would halt a reader's what-if run); every number the prose quotes,
+  ``{eval}`glued("key", "fmt")```, is a key the chapter glues; ``glue`` comes from ``orrc.viz``
+  (never ``myst_nb``); hidden cells are collapsed in JupyterLab too (``jupyter.source_hidden``).
 * Visible cells hold teaching code only: the switch between the full and the test size
   (``orrc.config``) lives in cells tagged ``remove-cell``.
 * A chapter saved unchanged by JupyterLab stays byte-identical: its header is the one jupytext writes.
 * Numbers that two chapters both quote agree.
 """
+import ast
 import json
 import re
 
@@ -130,6 +135,78 @@ def test_saving_a_chapter_in_jupyterlab_leaves_it_byte_identical(chapter):
         pytest.fail(f"{chapter}.md changes when JupyterLab saves it unchanged. Start the chapter with exactly "
                     f"the header jupytext writes:\n\n{jupytext_header()}\n(and keep the cells as jupytext writes "
                     f"them). The change:\n{diff}")
+
+
+def code_cells(chapter):
+    return [c for c in jupytext.read(ROOT / f"{chapter}.md").cells if c.cell_type == "code"]
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_claims_are_claim_calls_that_inform_in_a_live_notebook(chapter):
+    """No ``assert`` in a chapter's cells: in a live kernel an assert halts Run All at the first
+    claim a reader's change of a parameter contradicts; ``claim(cond, "statement")`` fails only the
+    book's build and shows a note in a live notebook. Every claim states what it checks."""
+    found = []
+    for cell in code_cells(chapter):
+        for node in ast.walk(ast.parse(cell.source)):
+            if isinstance(node, ast.Assert):
+                found.append(f"assert at line {node.lineno} of {cell.source.splitlines()[0][:50]!r}")
+            elif (isinstance(node, ast.Call) and getattr(node.func, "id", None) == "claim"
+                  and not (len(node.args) >= 2 and isinstance(node.args[1], ast.Constant)
+                           and str(node.args[1].value).strip())):
+                found.append(f"claim without a statement at line {node.lineno}")
+    assert not found, (f"{chapter}: write each claim as claim(condition, \"the statement of the text\") "
+                       f"(from orrc.viz import claim): {found}")
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_glue_comes_from_orrc_viz(chapter):
+    """``orrc.viz.glue`` works wherever ``orrc`` is installed; ``myst_nb`` is not in '.[book]'."""
+    offending = [c.source.splitlines()[0] for c in code_cells(chapter) if re.search(r"\bmyst_nb\b", c.source)]
+    assert not offending, f"{chapter}: import glue from orrc.viz, not myst_nb: {offending}"
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_hidden_cells_are_collapsed_in_jupyterlab(chapter):
+    """A cell the book hides (remove-cell, remove-input) shows collapsed in JupyterLab too, so
+    size switches and claim checks are out of the reader's way there as well."""
+    open_ = [c.source.splitlines()[0][:60] for c in code_cells(chapter)
+             if {"remove-cell", "remove-input"} & set(c.metadata.get("tags", []))
+             and not c.metadata.get("jupyter", {}).get("source_hidden")]
+    assert not open_, f"{chapter}: hidden cells without jupyter: {{source_hidden: true}}: {open_}"
+
+
+EVAL = re.compile(r"\{eval\}`([^`]*)`")
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_the_prose_quotes_numbers_as_glued_expressions(chapter):
+    """Numbers in the prose are ``{eval}`glued("key", "fmt")``` (rendered in JupyterLab and in the
+    HTML), no longer ``{glue:text}`` (a bare key in JupyterLab), and the chapter imports ``glued``."""
+    from tools.sphinx_live import parse_glued
+
+    text = (ROOT / f"{chapter}.md").read_text(encoding="utf-8")
+    assert "{glue:text}" not in text, f"{chapter}: quote numbers as {{eval}}`glued(\"key\", \"fmt\")`"
+    bad = [e for e in EVAL.findall(text) if parse_glued(e) is None]
+    assert not bad, f"{chapter}: inline expressions other than glued(\"key\", \"fmt\"): {bad}"
+    if EVAL.search(text):
+        assert re.search(r"^from orrc\.viz import .*\bglued\b", text, re.M), \
+            f"{chapter}: the prose evaluates glued(...); import it (from orrc.viz import glue, glued)"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_every_quoted_key_is_glued_by_the_chapter(book, chapter):
+    """Every key the prose quotes is one the executed chapter glued (else a live notebook shows an
+    error where the number should be)."""
+    from tools.sphinx_live import parse_glued
+
+    keys = {parse_glued(e)[0] for e in EVAL.findall((ROOT / f"{chapter}.md").read_text(encoding="utf-8"))
+            if parse_glued(e)}
+    if not keys:
+        return
+    missing = sorted(keys - set(glued(chapter)))
+    assert not missing, f"{chapter}: the prose quotes keys the chapter never glues: {missing}"
 
 
 def _number(text: str) -> float:

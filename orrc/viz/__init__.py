@@ -7,9 +7,10 @@ legible at a phone's width in the book and in JupyterLab.
 from . import comparison_plots, figures, minmax_plots, plots, theory_plots, unknown_plots
 from .explore import Explorer, explore, figure_to_png
 from .live import LiveView
-from .notebook import glue
+from .claims import claim
+from .notebook import glue, glued
 
-__all__ = ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue", "plots", "theory_plots", "comparison_plots",
+__all__ = ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue", "glued", "claim", "plots", "theory_plots", "comparison_plots",
            "unknown_plots", "minmax_plots"]
 
 
