@@ -45,8 +45,9 @@ $(LAB_STAMP): $(STAMP) requirements-lab.txt tools/jupyterlab-overrides.json
 	cp tools/jupyterlab-overrides.json $(LAB_SETTINGS)/overrides.json
 	touch $(LAB_STAMP)
 
+# tools/jupyter_lab_config.py: chapters open unmodified (tools/lab_contents.py), kernels over IPC
 lab: $(LAB_STAMP)
-	$(VENV)/bin/jupyter lab --ServerApp.root_dir=. $(LAB_ARGS) book/preface.md
+	$(VENV)/bin/jupyter lab --config=tools/jupyter_lab_config.py --ServerApp.root_dir=. $(LAB_ARGS) book/preface.md
 
 # the built book over http on localhost (search shows snippets only over http)
 serve:

@@ -1,0 +1,18 @@
+"""Configuration of ``make lab`` (``jupyter lab --config=tools/jupyter_lab_config.py``).
+
+* the chapters open unmodified (``tools/lab_contents.py``);
+* kernels talk to the server over local IPC sockets instead of TCP on localhost: the kernel
+  then starts without its warning "Kernel is running over TCP without encryption".
+"""
+import sys
+from pathlib import Path
+
+ROOT = str(Path(__file__).resolve().parents[1])
+if ROOT not in sys.path:
+    sys.path.insert(0, ROOT)
+
+from tools.lab_contents import ChapterContentsManager  # noqa: E402
+
+c = get_config()  # noqa: F821 (defined by traitlets when it loads this file)
+c.ServerApp.contents_manager_class = ChapterContentsManager
+c.KernelManager.transport = "ipc"
