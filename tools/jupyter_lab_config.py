@@ -1,6 +1,8 @@
 """Configuration of ``make lab`` (``jupyter lab --config=tools/jupyter_lab_config.py``).
 
 * the chapters open unmodified (``tools/lab_contents.py``);
+* the chapters' solutions fold as in the HTML book: JupyterLab's custom stylesheet
+  (``--LabApp.custom_css``) from ``tools/jupyterlab-custom/custom.css``;
 * kernels talk to the server over local IPC sockets instead of TCP on localhost: the kernel
   then starts without its warning "Kernel is running over TCP without encryption".
 """
@@ -16,3 +18,5 @@ from tools.lab_contents import ChapterContentsManager  # noqa: E402
 c = get_config()  # noqa: F821 (defined by traitlets when it loads this file)
 c.ServerApp.contents_manager_class = ChapterContentsManager
 c.KernelManager.transport = "ipc"
+c.LabApp.custom_css = True
+c.ServerApp.tornado_settings = {"static_custom_path": [str(Path(ROOT) / "tools" / "jupyterlab-custom")]}
