@@ -34,8 +34,9 @@ book-student: $(STAMP)
 assignments: $(STAMP)
 	set -eo pipefail; $(PY) -m tools.assignments
 
-# the whole suite; it builds its own, shortened, book into _build/test (never _build/html)
-test: $(STAMP)
+# the whole suite; it builds its own, shortened, book into _build/test (never _build/html); with
+# make lab's JupyterLab, which tests/test_live_notebooks.py drives in Chromium
+test: $(STAMP) $(LAB_STAMP)
 	set -eo pipefail; ORRC_QUICK=1 $(PY) -m pytest -q tests
 
 # JupyterLab (pinned, requirements-lab.txt) in the same .venv, chapters open as notebooks
