@@ -42,3 +42,35 @@ def test_in_a_kernel_a_widget_bar_and_in_the_build_nothing():
     assert any("application/vnd.jupyter.widget-view+json" in m["content"].get("data", {})
                for m in live if m["msg_type"] == "display_data")
     assert not [m for m in built if m["msg_type"] in ("display_data", "update_display_data")]
+
+
+def test_a_long_call_shows_one_status_line_in_a_kernel_and_nothing_in_the_build():
+    """orrc._progress.working: a status line while the block runs, emptied when it was quick,
+    "done in ... s" when it took longer than ``delay``; in the build nothing at all."""
+    from benchmarks.widgets import ROOT, Kernel, kernel_env
+
+    code = ("import time\nfrom orrc._progress import working\n"
+            "with working('solving', delay=0.2):\n    time.sleep(0.4)\n"
+            "with working('quick', delay=5):\n    pass\nprint('after')")
+    k = Kernel(ROOT / "book", kernel_env(quick=False))
+    try:
+        live = k.run(code)
+        built = k.run("import os; os.environ['ORRC_BOOK_BUILD'] = '1'\n" + code)
+    finally:
+        k.close()
+    shown = [m["content"]["data"]["text/plain"] for m in live if m["msg_type"] == "display_data"]
+    updated = [m["content"]["data"]["text/plain"] for m in live if m["msg_type"] == "update_display_data"]
+    assert shown == ["\u23f3 solving \u2026", "\u23f3 quick \u2026"]
+    assert updated[0].startswith("solving: done in 0.") and updated[1] == ""
+    assert [m["content"]["text"] for m in built if m["msg_type"] == "stream"] == ["after\n"]
+    assert not [m for m in built if m["msg_type"] in ("display_data", "update_display_data")]
+
+
+def test_a_status_line_needs_a_message():
+    import pytest
+
+    from orrc._validate import OrrcValueError
+
+    with pytest.raises(OrrcValueError, match="message must be a non-empty string"):
+        with progress_module.working(""):
+            pass

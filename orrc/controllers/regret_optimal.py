@@ -21,6 +21,7 @@ import warnings
 
 import numpy as np
 
+from .._progress import working
 from .._validate import OrrcValueError, as_int, check_problem
 from ..costs import QuadraticCost
 from ..solvers.condensed import condensed
@@ -92,7 +93,8 @@ class RegretOptimal(Controller):
         objective = cp.Minimize(cp.sigma_max(c.S_half @ Phi - c.S_half @ c.Phi_star))
         prob = cp.Problem(objective)
         try:
-            prob.solve(solver="CLARABEL")
+            with working(f"regret-optimal controller: solving its convex program (T = {self.T})"):
+                prob.solve(solver="CLARABEL")
         except cp.error.SolverError as exc:
             raise RuntimeError(f"the regret-optimal SDP failed in Clarabel: {exc}") from exc
         self.status = prob.status
