@@ -71,15 +71,18 @@ def test_visible_cells_hold_teaching_code_only(chapter):
 
 
 def jupyterlab_save(path):
-    """The text JupyterLab writes when it saves the text notebook ``path`` opened unchanged.
+    """The text JupyterLab writes when it saves the text notebook ``path`` after Run All, its text
+    unchanged.
 
-    JupyterLab reads the file through jupytext's contents manager, records the running kernel's
-    spec (the installed ``python3`` kernel: display name "Python 3 (ipykernel)") and its
-    ``language_info`` in the notebook's metadata, and saves it back through the same contents
-    manager. With jupyter_server installed (``make lab``) this is the contents manager itself, on a
-    copy of the file; without it, the same steps with jupytext's reader and writer (what the
-    contents manager calls: ``reads``/``writes`` with the default ``JupytextConfiguration``).
+    ``make lab`` reads the file through its contents manager (``tools/lab_contents.py``: jupytext's,
+    which hands out the chapter with the kernel's ``language_info``); JupyterLab records the running
+    kernel's spec (the installed ``python3`` kernel: display name "Python 3 (ipykernel)") and its
+    ``language_info``, jupyterlab-myst stores the results of the prose's inline expressions in each
+    Markdown cell's metadata (``user_expressions``), and the notebook is saved back through the same
+    contents manager, on a copy of the file. Without jupyter_server (no ``make lab``), the same steps
+    with jupytext's reader and writer and the contents manager's metadata filter.
     """
+    import asyncio
     import shutil
     import tempfile
     from pathlib import Path
@@ -93,22 +96,32 @@ def jupyterlab_save(path):
     language_info = {"name": "python", "mimetype": "text/x-python", "file_extension": ".py",
                      "pygments_lexer": "ipython3", "nbconvert_exporter": "python",
                      "codemirror_mode": {"name": "ipython", "version": 3}}
+
+    def as_after_run_all(nb):
+        nb["metadata"].update(kernelspec=kernelspec, language_info=language_info)
+        for cell in nb["cells"]:
+            for expr in EVAL.findall(cell["source"]) if cell["cell_type"] == "markdown" else []:
+                cell["metadata"].setdefault("user_expressions", []).append(
+                    {"expression": expr, "result": {"status": "ok", "data": {"text/plain": "1.5"}, "metadata": {}}})
+
     try:
-        from jupyter_server.services.contents.largefilemanager import LargeFileManager
-        from jupytext.sync_contentsmanager import build_sync_jupytext_contents_manager_class
+        from tools.lab_contents import NOT_SAVED, ChapterContentsManager
     except ImportError:
         from jupytext.config import JupytextConfiguration
 
-        config, fmt = JupytextConfiguration(), {"extension": ".md", "format_name": "myst"}
+        config = JupytextConfiguration(cell_metadata_filter="-user_expressions")
+        fmt = {"extension": ".md", "format_name": "myst"}
         nb = jupytext.reads(text, fmt=fmt, config=config)
-        nb.metadata.update(kernelspec=kernelspec, language_info=language_info)
+        as_after_run_all(nb)
         return jupytext.writes(nb, fmt=fmt, config=config)
+    assert NOT_SAVED == ("user_expressions",)
     with tempfile.TemporaryDirectory() as tmp:
         shutil.copy(path, Path(tmp) / Path(path).name)
-        cm = build_sync_jupytext_contents_manager_class(LargeFileManager)(root_dir=tmp)
-        model = cm.get(Path(path).name)
-        model["content"]["metadata"].update(kernelspec=kernelspec, language_info=language_info)
-        cm.save(model, Path(path).name)
+        cm = ChapterContentsManager(root_dir=tmp)
+        model = asyncio.run(cm.get(Path(path).name))
+        assert model["content"]["metadata"].get("language_info", {}).get("name") == "python"
+        as_after_run_all(model["content"])
+        asyncio.run(cm.save(model, Path(path).name))
         return (Path(tmp) / Path(path).name).read_text(encoding="utf-8")
 
 
