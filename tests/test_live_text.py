@@ -107,4 +107,4 @@ def test_in_a_live_kernel_a_false_claim_shows_one_line_and_the_cell_goes_on():
     assert len(claims) == 1 and "the bound holds at every step" in claims[0]
     assert "expected after changing a parameter" in claims[0]
     assert [m["content"]["text"] for m in live if m["msg_type"] == "stream"] == ["went on\n"]
-    assert "test-live-x = 2.5" in notes[-1]   # the values quoted in the text, under the cell
+    assert "Numbers quoted in the text: test-live-x = 2.5" in notes[-1]   # the fallback, under the cell

@@ -17,7 +17,8 @@ The prose quotes a glued number with a MyST inline expression,
 
 Where no renderer evaluates the expressions (a notebook viewer without MyST, an untrusted
 notebook), the values stay readable in the notebook itself: in a live kernel :func:`glue`
-shows one line under the cell that computed them ("Quoted in the text: l1-q19 = 23, ...").
+shows one folded line under the cell that computed them ("Numbers quoted in the text (3)",
+unfolded ``l1-q19 = 23.39``, ...; as text where HTML is not shown).
 """
 from __future__ import annotations
 
@@ -95,15 +96,25 @@ def _live_shell():
 _shown: dict = {}   # execution count -> (display handle, {key: text}) of the fallback line
 
 
+def _short(value) -> str:
+    return f"{value:.6g}" if isinstance(value, float) else str(value) if isinstance(value, (int, str)) else repr(value)
+
+
 def _show_in_cell(shell, name: str, value) -> None:
-    """The fallback: one line under the running cell listing the values it glued so far."""
+    """The fallback: one folded line under the running cell listing the values it glued so far
+    ("Numbers quoted in the text (3)", unfolded: ``l1-q19 = 23.39``, ...)."""
+    import html
+
     from IPython.display import display
 
     count = shell.execution_count
     handle, values = _shown.get(count, (None, {}))
-    values[name] = value if isinstance(value, str) else repr(value)
-    text = "Quoted in the text: " + ", ".join(f"{k} = {v}" for k, v in values.items())
-    bundle = {"text/plain": text}
+    values[name] = _short(value)
+    listed = ", ".join(f"{k} = {v}" for k, v in values.items())
+    rows = "".join(f"<li><code>{html.escape(k)}</code> = {html.escape(v)}</li>" for k, v in values.items())
+    bundle = {"text/plain": f"Numbers quoted in the text: {listed}",
+              "text/html": f"<details class=\"orrc-quoted\"><summary>Numbers quoted in the text "
+                           f"({len(values)})</summary><ul>{rows}</ul></details>"}
     if handle is None:
         _shown.clear()
         _shown[count] = (display(bundle, raw=True, display_id=True), values)
@@ -111,11 +122,12 @@ def _show_in_cell(shell, name: str, value) -> None:
         handle.update(bundle, raw=True)
 
 
-def glue(name: str, value, display: bool = False):
+def glue(name: str, value, display: bool = False) -> None:
     """Glue ``value`` under the key ``name`` for the book's prose (myst-nb's ``glue``; without
     myst-nb only stored in :data:`glued`). ``display=False`` (the book's default: the number
-    appears where the prose quotes it, not where it is computed; in a live kernel one line under
-    the cell still lists what it glued). Returns ``value``."""
+    appears where the prose quotes it, not where it is computed; in a live kernel one folded line
+    under the cell still lists what it glued). Returns None, as myst-nb's ``glue`` (a cell that
+    ends with a glue shows no ``Out``)."""
     from .._validate import OrrcValueError
 
     if not isinstance(name, str) or not name:
@@ -130,7 +142,6 @@ def glue(name: str, value, display: bool = False):
         from IPython import get_ipython
         from myst_nb import glue as myst_glue
     except ImportError:
-        return value
+        return
     if get_ipython() is not None:  # myst-nb glues through the notebook's outputs
         myst_glue(name, value, display=display)
-    return value
