@@ -159,14 +159,18 @@ def test_claims_are_claim_calls_that_inform_in_a_live_notebook(chapter):
     """No ``assert`` in a chapter's cells: in a live kernel an assert halts Run All at the first
     claim a reader's change of a parameter contradicts; ``claim(cond, "statement")`` fails only the
     book's build and shows a note in a live notebook. Every claim states what it checks."""
+    from IPython.core.inputtransformer2 import TransformerManager
+
     found = []
     for cell in code_cells(chapter):
-        for node in ast.walk(ast.parse(cell.source)):
+        python = TransformerManager().transform_cell(cell.source)   # IPython magics as Python
+        for node in ast.walk(ast.parse(python)):
             if isinstance(node, ast.Assert):
                 found.append(f"assert at line {node.lineno} of {cell.source.splitlines()[0][:50]!r}")
             elif (isinstance(node, ast.Call) and getattr(node.func, "id", None) == "claim"
-                  and not (len(node.args) >= 2 and isinstance(node.args[1], ast.Constant)
-                           and str(node.args[1].value).strip())):
+                  and not (len(node.args) >= 2 and (isinstance(node.args[1], ast.JoinedStr)
+                                                    or isinstance(node.args[1], ast.Constant)
+                                                    and str(node.args[1].value).strip()))):
                 found.append(f"claim without a statement at line {node.lineno}")
     assert not found, (f"{chapter}: write each claim as claim(condition, \"the statement of the text\") "
                        f"(from orrc.viz import claim): {found}")
