@@ -60,10 +60,11 @@ def working(message: str, delay: float = 2.0):
     """A status line "⏳ ``message`` …" while the block runs, where a reader watches in a live kernel
     (:func:`watched`, a kernel only: a terminal gets nothing). At the end the line is emptied when the
     block took less than ``delay`` seconds, else it says "``message``: done in 6.7 s"."""
-    from ._validate import OrrcValueError
+    from ._validate import OrrcValueError, as_float
 
     if not isinstance(message, str) or not message:
         raise OrrcValueError(f"message must be a non-empty string (what the call is doing); got {message!r}")
+    delay = as_float("delay", delay, minimum=0.0)
     ipython = sys.modules.get("IPython")
     shell = ipython.get_ipython() if ipython is not None else None
     if not watched() or shell is None or not hasattr(shell, "kernel"):

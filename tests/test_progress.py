@@ -62,12 +62,3 @@ def test_a_long_call_shows_one_status_line_in_a_kernel_and_nothing_in_the_build(
     assert [m["content"]["text"] for m in built if m["msg_type"] == "stream"] == ["after\n"]
     assert not [m for m in built if m["msg_type"] in ("display_data", "update_display_data")]
 
-
-def test_a_status_line_needs_a_message():
-    import pytest
-
-    from orrc._validate import OrrcValueError
-
-    with pytest.raises(OrrcValueError, match="message must be a non-empty string"):
-        with progress_module.working(""):
-            pass
