@@ -108,3 +108,52 @@ def test_in_a_live_kernel_a_false_claim_shows_one_line_and_the_cell_goes_on():
     assert "expected after changing a parameter" in claims[0]
     assert [m["content"]["text"] for m in live if m["msg_type"] == "stream"] == ["went on\n"]
     assert "Numbers quoted in the text: test-live-x = 2.5" in notes[-1]   # the fallback, under the cell
+
+
+CHAPTER = """---
+jupytext:
+  text_representation:
+    extension: .md
+    format_name: myst
+kernelspec:
+  display_name: Python 3 (ipykernel)
+  language: python
+  name: python3
+---
+
+The gap is {eval}`glued("x-gap", ".0f")` times an increment, and {eval}`glued("x-missing")`.
+
+```{code-cell} ipython3
+from orrc.viz import glue, glued
+glue("x-gap", 84.6)
+```
+"""
+
+
+@pytest.mark.parametrize("stamp, shown", [("fresh", "85"), ("stale", None), ("test-size", None)])
+def test_make_lab_shows_the_published_numbers_before_the_chapter_runs(tmp_path, stamp, shown):
+    """make lab's contents manager hands out a chapter with its expressions' results from the
+    published build (formatted as the HTML formats them), only when that build is of exactly these
+    sources and at full size; a key the build did not glue stays an expression."""
+    import asyncio
+    import json
+
+    pytest.importorskip("jupyter_server")
+    from tools.build_book import inputs_digest
+    from tools.lab_contents import ChapterContentsManager
+
+    (tmp_path / "book").mkdir()
+    (tmp_path / "book" / "x.md").write_text(CHAPTER, encoding="utf-8")
+    glue_file = tmp_path / "_build" / "jupyter_execute" / "book" / "x.glue.json"
+    glue_file.parent.mkdir(parents=True)
+    glue_file.write_text(json.dumps({"x-gap": {"output_type": "display_data", "data": {"text/plain": "84.6"}}}))
+    digest = inputs_digest(tmp_path) if stamp != "stale" else "0" * 64
+    (tmp_path / "_build" / "orrc-build.json").write_text(json.dumps({"digest": digest, "quick": stamp == "test-size"}))
+    cm = ChapterContentsManager(root_dir=str(tmp_path), book_root=str(tmp_path))
+    model = asyncio.run(cm.get("book/x.md"))
+    results = [r for c in model["content"]["cells"] for r in c["metadata"].get("user_expressions", [])]
+    if shown is None:
+        assert results == []
+    else:
+        assert results == [{"expression": 'glued("x-gap", ".0f")',
+                            "result": {"status": "ok", "data": {"text/plain": shown}, "metadata": {}}}]
