@@ -7,11 +7,11 @@ legible at a phone's width in the book and in JupyterLab.
 from . import comparison_plots, figures, minmax_plots, plots, theory_plots, unknown_plots
 from .explore import Explorer, explore, figure_to_png
 from .live import LiveView
-from .claims import claim
-from .notebook import glue, glued
+from .claims import ClaimError, ClaimWarning, claim
+from .notebook import Quoted, glue, glued
 
-__all__ = ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue", "glued", "claim", "plots", "theory_plots", "comparison_plots",
-           "unknown_plots", "minmax_plots"]
+__all__ = ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue", "glued", "Quoted", "claim",
+           "ClaimError", "ClaimWarning", "plots", "theory_plots", "comparison_plots", "unknown_plots", "minmax_plots"]
 
 
 def _in_kernel() -> bool:
