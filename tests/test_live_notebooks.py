@@ -246,3 +246,13 @@ def what_if(page):
         f"{chapter} with {replacement}: no note that {statement!r} no longer holds; notes: {state['notes']}"
     assert all("expected after changing a parameter" in n for n in state["notes"])
     print(f"{chapter} with {replacement}: Run All {seconds:.0f} s, {len(state['notes'])} notes")
+
+
+def test_the_server_and_its_kernels_start_quietly(lab):
+    """After the chapters above ran: no kernel warned "running over TCP without encryption" (the
+    kernels use IPC) and no websocket ping warning (tools/jupyter_lab_config.py)."""
+    log = lab["log"].read_text(encoding="utf-8", errors="replace")
+    assert "Kernel started" in log
+    noisy = [line[:160] for line in log.splitlines()
+             if "without encryption" in line or "websocket_ping_timeout" in line]
+    assert not noisy, f"warnings at the start of the server or a kernel: {noisy}"
