@@ -21,7 +21,7 @@ $(STAMP): requirements.txt pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -r requirements.txt
-	$(PY) -m pip install --quiet --no-deps -e .
+	PYTHONWARNINGS="ignore:Editable installation" $(PY) -m pip install --quiet --no-deps -e .   # no setuptools banner
 	touch $(STAMP)
 
 # the published book, at full size, into _build/html (ORRC_QUICK is ignored here; tools.build_book sets
@@ -44,8 +44,9 @@ $(AXE): tools/axe/package.json tools/axe/package-lock.json
 	npm ci --prefix $(AXE_DIR) --no-audit --no-fund --ignore-scripts --loglevel=error
 	touch $(AXE)
 
-# the whole suite; it builds its own, shortened, book into _build/test (never _build/html)
-test: $(STAMP) $(AXE)
+# the whole suite; it builds its own, shortened, book into _build/test (never _build/html); with
+# make lab's JupyterLab, which tests/test_live_notebooks.py drives in Chromium, and axe-core
+test: $(STAMP) $(LAB_STAMP) $(AXE)
 	set -eo pipefail; ORRC_QUICK=1 $(PY) -m pytest -q tests
 
 # JupyterLab (pinned, requirements-lab.txt) in the same .venv, chapters open as notebooks
@@ -55,8 +56,9 @@ $(LAB_STAMP): $(STAMP) requirements-lab.txt tools/jupyterlab-overrides.json
 	cp tools/jupyterlab-overrides.json $(LAB_SETTINGS)/overrides.json
 	touch $(LAB_STAMP)
 
+# tools/jupyter_lab_config.py: chapters open unmodified (tools/lab_contents.py), kernels over IPC
 lab: $(LAB_STAMP)
-	$(VENV)/bin/jupyter lab --ServerApp.root_dir=. $(LAB_ARGS) book/preface.md
+	$(VENV)/bin/jupyter lab --config=tools/jupyter_lab_config.py --ServerApp.root_dir=. $(LAB_ARGS) book/preface.md
 
 # the built book over http on localhost (search shows snippets only over http)
 serve:

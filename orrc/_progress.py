@@ -2,7 +2,12 @@
 
 ``for M in orrc.progress(Ms, desc="horizons"): ...`` is the loop over ``Ms`` with a progress bar
 (``tqdm.auto``: a widget in a Jupyter kernel, text in a terminal) that appears only once the loop
-has run for ``delay`` seconds (2 by default), so a quick loop shows nothing. No bar at all:
+has run for ``delay`` seconds (2 by default), so a quick loop shows nothing.
+
+A single long call (no loop to count, e.g. the regret-optimal controller's convex program) says
+what it is doing instead: ``with working("solving the regret-optimal SDP"): ...`` shows one status
+line while it runs, and at the end either removes it (it took less than ``delay``) or leaves
+"... done in 6.7 s". No bar or status line at all:
 
 * in the book's build (``orrc.config.book_build()``, ``ORRC_BOOK_BUILD=1``): the executed chapters
   keep no progress output and no stray standard error;
@@ -11,8 +16,10 @@ has run for ``delay`` seconds (2 by default), so a quick loop shows nothing. No 
 from __future__ import annotations
 
 import sys
+import time
+from contextlib import contextmanager
 
-__all__ = ["progress", "watched"]
+__all__ = ["progress", "watched", "working"]
 
 
 def watched() -> bool:
@@ -46,3 +53,29 @@ def progress(iterable, desc: str | None = None, total: int | None = None, delay:
     from tqdm.auto import tqdm
 
     return tqdm(iterable, desc=desc, total=total, delay=delay, leave=False)
+
+
+@contextmanager
+def working(message: str, delay: float = 2.0):
+    """A status line "⏳ ``message`` …" while the block runs, where a reader watches in a live kernel
+    (:func:`watched`, a kernel only: a terminal gets nothing). At the end the line is emptied when the
+    block took less than ``delay`` seconds, else it says "``message``: done in 6.7 s"."""
+    from ._validate import OrrcValueError, as_float
+
+    if not isinstance(message, str) or not message:
+        raise OrrcValueError(f"message must be a non-empty string (what the call is doing); got {message!r}")
+    delay = as_float("delay", delay, minimum=0.0)
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    if not watched() or shell is None or not hasattr(shell, "kernel"):
+        yield
+        return
+    from IPython.display import display
+
+    handle = display({"text/plain": f"\u23f3 {message} \u2026"}, raw=True, display_id=True)
+    t0 = time.perf_counter()
+    try:
+        yield
+    finally:
+        seconds = time.perf_counter() - t0
+        handle.update({"text/plain": f"{message}: done in {seconds:.1f} s" if seconds >= delay else ""}, raw=True)

@@ -1,4 +1,5 @@
 import os
+import shutil
 import sys
 import time
 from pathlib import Path
@@ -202,3 +203,38 @@ def graded():
     if "future" not in _GRADING:
         _start_grading()
     return {r["name"]: r for r in _GRADING["future"].result()}
+
+
+# ---------------------------------------------------------------- the browser (one Chromium per session)
+
+def find_chromium() -> str | None:
+    env = os.environ.get("ORRC_CHROMIUM")
+    if env:
+        return env if Path(env).is_file() else None
+    for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return "/usr/bin/chromium" if Path("/usr/bin/chromium").is_file() else None
+
+
+HOW_TO_ENABLE = ("the browser tests need Chromium: `sudo apt-get install chromium` (Debian/Ubuntu), "
+                 "or set ORRC_CHROMIUM=/path/to/chromium; Playwright never downloads a browser here")
+
+
+@pytest.fixture(scope="session")
+def chromium():
+    path = find_chromium()
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:  # pragma: no cover - playwright is pinned in requirements.txt
+        sync_playwright = None
+    if path is None or sync_playwright is None:
+        why = "no Chromium found" if path is None else "the playwright package is missing"
+        if os.environ.get("CI"):
+            pytest.fail(f"CI is set but {why}: {HOW_TO_ENABLE}")
+        pytest.skip(f"{why}; {HOW_TO_ENABLE}")
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=path, args=["--no-sandbox", "--disable-gpu"])
+        yield browser
+        browser.close()

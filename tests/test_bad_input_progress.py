@@ -1,7 +1,9 @@
-"""Bad input to orrc.progress: a clear orrc.OrrcValueError naming the argument."""
+"""Bad input to orrc.progress (and the status line of a long call, orrc._progress.working): a clear
+orrc.OrrcValueError naming the argument."""
 import pytest
 
 import orrc
+from orrc._progress import working
 
 from bad_input import assert_bad_input, case, params
 
@@ -12,6 +14,8 @@ CASES = [
     case("progress-total-type", lambda: orrc.progress(range(3), total="3"), "total", "integer"),
     case("progress-delay-negative", lambda: orrc.progress(range(3), delay=-1.0), "delay", "-1"),
     case("progress-delay-nan", lambda: orrc.progress(range(3), delay=float("nan")), "delay", "nan"),
+    case("working-message", lambda: working("").__enter__(), "message", "non-empty string"),
+    case("working-delay", lambda: working("solving", delay=-1).__enter__(), "delay", "-1"),
 ]
 
 

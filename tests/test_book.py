@@ -28,7 +28,6 @@ import ast
 import html.parser
 import os
 import re
-import shutil
 from pathlib import Path
 
 import pytest
@@ -232,17 +231,6 @@ def test_pages_stay_light(book, page):
 
 # ---------------------------------------------------------------- the browser
 
-def find_chromium() -> str | None:
-    env = os.environ.get("ORRC_CHROMIUM")
-    if env:
-        return env if Path(env).is_file() else None
-    for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"):
-        path = shutil.which(name)
-        if path:
-            return path
-    return "/usr/bin/chromium" if Path("/usr/bin/chromium").is_file() else None
-
-
 AXE = ROOT / "_build" / "axe" / "node_modules" / "axe-core" / "axe.min.js"   # `make test` installs it
 AXE_IMPACTS = ("serious", "critical")   # the audit fails a page on these
 
@@ -297,26 +285,7 @@ _OVERFLOWING = """() => {
 }"""
 
 
-HOW_TO_ENABLE = ("the browser tests need Chromium: `sudo apt-get install chromium` (Debian/Ubuntu), "
-                 "or set ORRC_CHROMIUM=/path/to/chromium; Playwright never downloads a browser here")
-
-
-@pytest.fixture(scope="session")
-def chromium():
-    path = find_chromium()
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:  # pragma: no cover - playwright is pinned in requirements.txt
-        sync_playwright = None
-    if path is None or sync_playwright is None:
-        why = "no Chromium found" if path is None else "the playwright package is missing"
-        if os.environ.get("CI"):
-            pytest.fail(f"CI is set but {why}: {HOW_TO_ENABLE}")
-        pytest.skip(f"{why}; {HOW_TO_ENABLE}")
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=path, args=["--no-sandbox", "--disable-gpu"])
-        yield browser
-        browser.close()
+# the session's one Chromium: the `chromium` fixture of conftest.py (shared with tests/test_live_notebooks.py)
 
 
 # every remote request is refused and recorded, so an offline failure shows up here too

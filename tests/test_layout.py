@@ -33,8 +33,8 @@ PUBLIC = {
     "orrc.controllers": ["Controller", "Decision", "Observation", "PreviewRHC", "MinMaxRHC", "LQR", "Clairvoyant",
                          "ZeroInput", "FailureLadder", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal",
                          "LiftedRHC", "EstimateThenControl", "Excitation"],
-    "orrc.viz": ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue", "plots", "theory_plots", "comparison_plots",
-                 "unknown_plots", "minmax_plots"],
+    "orrc.viz": ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue", "glued", "claim", "plots",
+                 "theory_plots", "comparison_plots", "unknown_plots", "minmax_plots"],
 }
 
 SECTIONS = {
@@ -42,7 +42,7 @@ SECTIONS = {
     "orrc.certify": ["constants", "sampled", "attenuation", "regret", "lipschitz", "minmax"],
     "orrc.checks": ["known", "unknown", "nopreview"],
     "orrc.estimation": ["excitation", "data", "linear", "parametric", "edmd"],
-    "orrc.viz": ["explore", "live", "notebook"],
+    "orrc.viz": ["explore", "live", "notebook", "claims"],
 }
 
 

@@ -46,10 +46,12 @@ INPUTS = ("_config.yml", "_toc.yml", "book/**/*", "orrc/**/*.py")
 
 def inputs_digest(root: Path = ROOT) -> str:
     """SHA-256 over the path and content of every file the executed chapters depend on: the book's
-    sources and configuration and the package (not tools/, which only renders)."""
+    sources and configuration and the package (not tools/, which only renders; not hidden folders
+    such as the ``.ipynb_checkpoints`` JupyterLab writes beside an open chapter)."""
     h = hashlib.sha256()
     files = sorted({p for pattern in INPUTS for p in Path(root).glob(pattern)
-                    if p.is_file() and "__pycache__" not in p.parts and p.suffix != ".ipynb"})
+                    if p.is_file() and "__pycache__" not in p.parts and p.suffix != ".ipynb"
+                    and not any(part.startswith(".") for part in p.relative_to(root).parts)})
     for p in files:
         h.update(p.relative_to(root).as_posix().encode() + b"\0" + p.read_bytes() + b"\0")
     return h.hexdigest()

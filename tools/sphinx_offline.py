@@ -18,9 +18,9 @@ Loaded by ``_config.yml`` (``sphinx: local_extensions: {sphinx_offline: tools}``
    with jupytext (cells only, no outputs) into ``_build/html/_sources/<page>.ipynb``
    and sphinx-book-theme's download menu gets its ``.ipynb`` entry
    (the theme shows it when the page context has ``ipynb_source``). The notebook opens
-   with a cell that says where it runs (wherever ``orrc`` is installed), and a bare
-   ``from myst_nb import glue`` becomes ``from orrc.viz import glue`` (myst-nb's glue
-   when myst-nb is there, a plain store otherwise), so the download needs only ``orrc``.
+   with a cell that says how to install what it needs (:data:`INSTALL`: ``orrc`` with its
+   ``book`` extra), and a bare ``from myst_nb import glue`` becomes ``from orrc.viz import
+   glue`` (myst-nb's glue when myst-nb is there, a plain store otherwise).
 """
 from __future__ import annotations
 
@@ -123,11 +123,16 @@ def drop_dead_assets(app: Sphinx, pagename, templatename, context, doctree) -> N
             files[:] = [f for f in files if not _is_dead(f)]
 
 
+INSTALL = "pip install '.[book]'"   # tests/test_downloads.py installs exactly what this says
 DOWNLOAD_NOTE = ("*{title}*, a chapter of the book *Online Learning Robust Control*, as a plain "
-                 "Jupyter notebook. It runs wherever the `orrc` package is installed with the book's "
-                 "extras: from the repository, `pip install -e '.[book]'` (or `make lab`, which also "
-                 "opens the chapters in JupyterLab). The rendered book has the outputs, the glued "
-                 "numbers and the references to the other chapters.")
+                 "Jupyter notebook. To run it, install the `orrc` package with the book's extra "
+                 "in a Python 3.11+ environment, in the folder of the book's repository:\n\n"
+                 f"    {INSTALL}\n\n"
+                 "and open this notebook with Jupyter from anywhere (`make lab` in the repository "
+                 "installs JupyterLab too and opens the chapters as notebooks). The numbers the "
+                 "text quotes, `glued(\"key\", \"format\")`, appear in the text in JupyterLab "
+                 "with jupyterlab-myst, and in any notebook under the cell that computes them; "
+                 "the rendered book has the outputs and the references to the other chapters.")
 
 _BARE_GLUE = re.compile(r"^from myst_nb import glue\b", re.M)
 

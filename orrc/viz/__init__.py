@@ -8,10 +8,11 @@ from . import comparison_plots, figures, minmax_plots, plots, theory_plots, unkn
 from .explore import Explorer, explore, figure_to_png
 from .kernel import in_kernel
 from .live import LiveView
-from .notebook import glue
+from .claims import ClaimError, ClaimWarning, claim
+from .notebook import Quoted, glue, glued
 
-__all__ = ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue", "plots", "theory_plots", "comparison_plots",
-           "unknown_plots", "minmax_plots"]
+__all__ = ["explore", "Explorer", "LiveView", "figure_to_png", "figures", "glue", "glued", "Quoted", "claim",
+           "ClaimError", "ClaimWarning", "plots", "theory_plots", "comparison_plots", "unknown_plots", "minmax_plots"]
 
 
 if in_kernel():
