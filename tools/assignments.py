@@ -32,6 +32,8 @@ from pathlib import Path
 
 import yaml
 
+from tools import autograder_env
+
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = ROOT / "assignments"
 OUT = ROOT / "_build" / "assignments"
@@ -159,14 +161,33 @@ def leaked_solutions(master: Path, student: Path) -> list[str]:
     return [ln for ln in _solution_text(master) if ln in text]
 
 
-def build(name: str, out: Path = OUT, root: Path = SOURCES) -> dict:
+def self_contained(master: Path, wheel: Path) -> None:
+    """Make the autograder of ``master`` grade anywhere: its assignment config gets the orrc wheel
+    (``files``: in the zip's ``files/`` and beside the student notebook), the pinned requirements
+    grading imports in place of otter's default list, and the Python they are tested with
+    (see :mod:`tools.autograder_env`)."""
+    import nbformat
+
+    shutil.copy2(wheel, master.parent / wheel.name)
+    nb = nbformat.read(master, as_version=4)
+    cell = next(c for c in nb.cells if _raw_header(c)[0] == "ASSIGNMENT CONFIG")
+    conf = _raw_header(cell)[1]
+    conf.update(requirements=autograder_env.grading_requirements(wheel.name), overwrite_requirements=True,
+                files=sorted(set(conf.get("files", [])) | {wheel.name}), python_version=autograder_env.python_version())
+    cell.source = "# ASSIGNMENT CONFIG\n" + yaml.safe_dump(conf, sort_keys=False)
+    nbformat.write(nb, master)
+
+
+def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None = None) -> dict:
     """``otter assign`` one assignment into ``out/NAME``: paths of the student and solution notebooks
-    and of the autograder zip."""
+    and of the autograder zip. ``wheel``: the orrc wheel to put in the autograder (built if None)."""
     dest = Path(out) / name
     if dest.exists():
         shutil.rmtree(dest)
     master = to_ipynb(Path(root) / name / f"{name}.md", dest / "master" / f"{name}.ipynb")
-    proc = subprocess.run([_bin("otter"), "assign", str(master), str(dest / "dist")], capture_output=True, text=True)
+    self_contained(master, wheel or autograder_env.build_wheel(dest / "wheel"))
+    proc = subprocess.run([_bin("otter"), "assign", str(master), str(dest / "dist")], capture_output=True, text=True,
+                          cwd=master.parent)
     if proc.returncode != 0:
         raise RuntimeError(f"otter assign failed for {name}:\n{proc.stdout}\n{proc.stderr}")
     zips = sorted((dest / "dist" / "autograder").glob(f"{name}-autograder_*.zip"))
