@@ -77,7 +77,8 @@ def read_assignment(path: Path) -> dict:
     for cell in nb.cells:
         head, conf = _raw_header(cell)
         if head == "BEGIN QUESTION":
-            q = {"name": conf["name"], "tests": []}
+            q = {"name": conf["name"], "tests": [], "manual": bool(conf.get("manual")),
+                 "manual_points": float(conf.get("points") or 0) if conf.get("manual") else 0.0}
             questions.append(q)
         elif head == "BEGIN TESTS":
             in_tests = True
@@ -97,8 +98,10 @@ def read_assignment(path: Path) -> dict:
             q["tests"].append({"name": fn, "points": float(conf["points"]), "hidden": bool(conf.get("hidden")),
                                "checks": str(conf["failure_message"])})
     for q in questions:
-        if not q["tests"]:
+        if not q["tests"] and not q["manual"]:
             raise ValueError(f"{path}: question {q['name']} has no tests")
+        if q["manual"] and not q["manual_points"]:
+            raise ValueError(f"{path}: the manual question {q['name']} needs its points")
     chapters, titles = [], {}
     for entry in meta["chapters"]:  # a page of the book, or "Title <page>" for one not written yet
         m = re.fullmatch(r"\s*(?:(.*?)\s*<([^<>]+)>|([^<>]+?))\s*", str(entry))
@@ -107,7 +110,8 @@ def read_assignment(path: Path) -> dict:
         titles[page] = (m.group(1) or "").strip()
     return {"name": path.stem, "title": title, "chapters": chapters, "chapter_titles": titles,
             "minutes": int(meta["minutes"]),
-            "questions": questions, "points": sum(t["points"] for q in questions for t in q["tests"])}
+            "questions": questions, "points": sum(t["points"] for q in questions for t in q["tests"]),
+            "manual_points": sum(q["manual_points"] for q in questions)}
 
 
 def _bin(tool: str) -> str:
@@ -202,15 +206,18 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None =
             "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0]}
 
 
-def grade(notebook: Path, autograder: Path, workdir: Path) -> dict:
+def grade(notebook: Path, autograder: Path, workdir: Path, python: str | None = None) -> dict:
     """Grade one notebook with ``otter run`` (local, no container): {"score", "points", "questions"}.
 
     ``questions`` maps each question to (score, max score) and its output (which test failed, why).
+    ``python``: the interpreter whose otter grades (default: this environment's), e.g. one of a
+    fresh environment built from the autograder zip alone.
     """
     if workdir.exists():
         shutil.rmtree(workdir)
     workdir.mkdir(parents=True)
-    proc = subprocess.run([_bin("otter"), "run", "-a", str(autograder), "-o", str(workdir), "--no-logo", str(notebook)],
+    cmd = [python, "-m", "otter"] if python else [_bin("otter")]
+    proc = subprocess.run([*cmd, "run", "-a", str(autograder), "-o", str(workdir), "--no-logo", str(notebook)],
                           capture_output=True, text=True)
     results = workdir / "results.json"
     if not results.is_file():
@@ -233,7 +240,7 @@ def fill_in(student: Path, answers: Path, dest: Path) -> Path:
     import nbformat
 
     nb = nbformat.read(student, as_version=4)
-    slots = [c for c in nb.cells if "otter_answer_cell" in c.metadata.get("tags", [])]
+    slots = [c for c in nb.cells if c.cell_type == "code" and "otter_answer_cell" in c.metadata.get("tags", [])]
     code = [c.source for c in jupytext.read(answers, fmt="md:myst").cells if c.cell_type == "code"]
     if len(code) != len(slots):
         raise ValueError(f"{answers}: {len(code)} answer cells for the {len(slots)} of {student.name}")
@@ -244,16 +251,20 @@ def fill_in(student: Path, answers: Path, dest: Path) -> Path:
     return dest
 
 
-def build_and_grade(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None) -> dict:
+def build_and_grade(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None,
+                    wheel: Path | None = None, python=None) -> dict:
     """Build one assignment, then grade its solution notebook, its blank student notebook, and each
-    submission made from ``extra`` ({label: answers}, see :func:`fill_in`; e.g. a plausible wrong one)."""
+    submission made from ``extra`` ({label: answers}, see :func:`fill_in`; e.g. a plausible wrong one).
+    ``python(paths)``: the interpreter that grades (see :func:`grade`), given the built paths."""
     t0 = time.perf_counter()
-    paths = build(name, out, root)
+    paths = build(name, out, root, wheel)
     subs = {"solution": paths["solution"], "blank": paths["student"]}
     for label, answers in (extra or {}).items():
         subs[label] = fill_in(paths["student"], answers, Path(out) / name / "submissions" / f"{label}.ipynb")
-    grades = {label: grade(nb, paths["autograder"], Path(out) / name / "graded" / label) for label, nb in subs.items()}
-    return {"name": name, "paths": paths, "grades": grades, "seconds": time.perf_counter() - t0}
+    exe = python(paths) if python else None
+    grades = {label: grade(nb, paths["autograder"], Path(out) / name / "graded" / label, exe) for label, nb in subs.items()}
+    return {"name": name, "paths": paths, "grades": grades, "python": exe or sys.executable,
+            "seconds": time.perf_counter() - t0}
 
 
 def line(result: dict) -> str:
@@ -266,10 +277,14 @@ def ok(result: dict) -> bool:
     return s["points"] > 0 and s["score"] == s["points"] and b["score"] < b["points"]
 
 
-def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None) -> list[dict]:
-    """Build and grade every assignment (``workers`` at a time); ``extra(name)`` gives more notebooks to grade."""
+def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None, python=None) -> list[dict]:
+    """Build and grade every assignment (``workers`` at a time; one orrc wheel for all);
+    ``extra(name)`` gives more notebooks to grade, ``python`` the interpreter that grades (see
+    :func:`build_and_grade`)."""
+    wheel = autograder_env.build_wheel(Path(out) / "_wheel")
     with ThreadPoolExecutor(max_workers=workers) as pool:
-        return list(pool.map(lambda n: build_and_grade(n, out, root, extra(n) if extra else None), names(root)))
+        return list(pool.map(lambda n: build_and_grade(n, out, root, extra(n) if extra else None, wheel, python),
+                             names(root)))
 
 
 def summary(results: list[dict]) -> tuple[str, int]:
