@@ -213,3 +213,19 @@ def test_no_assignment_solution_in_the_built_book(book, tmp_path):
         text = p.read_text(encoding="utf-8", errors="replace")
         hits = [ln for ln in lines if ln in text]
         assert not hits, f"{p.relative_to(html)} holds assignment solution text: {hits[:2]}"
+
+
+def test_every_exercise_has_time_and_difficulty_in_the_guide():
+    """The guide's table tags every exercise of the book (kind, time, difficulty), and the syllabus
+    sets every assignment."""
+    from tools.toc import toc_pages
+
+    guide = (ROOT / "book" / "instructors.md").read_text(encoding="utf-8")
+    rows = dict(re.findall(r"^\| \{ref\}`(ex-[\w-]+)` \| ([^|]+\| \d+ min \| ★+) \|$", guide, re.M))
+    labels = [m for p in toc_pages(ROOT) if p != "book/instructors" and (ROOT / f"{p}.md").is_file()
+              for m in re.findall(r"^:label: (ex-[\w-]+)$", (ROOT / f"{p}.md").read_text(encoding="utf-8"), re.M)]
+    assert labels, "no exercise found"
+    missing = [lb for lb in labels if lb not in rows]
+    assert not missing, f"exercises without time and difficulty in the guide's table: {missing}"
+    syllabus = guide[guide.index("## Syllabus"):guide.index("## The exercises")]
+    assert all(re.search(rf"\| {i}\b|\b{i}; exam|, and {i}|\b{i} \|", syllabus) for i in range(1, 6))
