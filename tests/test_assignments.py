@@ -77,7 +77,7 @@ def test_graded_in_a_fresh_environment_built_from_the_zip_alone(graded):
         exe = Path(r["python"])
         assert "fresh-envs" in exe.parts and ROOT / ".venv" not in exe.parents, f"{name} graded by {exe}"
         where = subprocess.run([str(exe), "-c", "import orrc, otter; print(orrc.__file__)"], capture_output=True,
-                               text=True, check=True).stdout.strip()
+                               text=True, check=True, cwd=Path(r["paths"]["student"]).parent).stdout.strip()
         assert "site-packages" in where and not where.startswith(str(ROOT / "orrc")), where
 
 

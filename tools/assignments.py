@@ -7,10 +7,14 @@ questions, their solutions and their tests in otter-grader 7's assign format (ra
 it needs and how long a student takes (``orrc_assignment: {chapters: [...], minutes: N}``).
 
 For every assignment, :func:`build` converts the source to ``.ipynb`` (jupytext; otter assign
-reads notebooks) and runs ``otter assign`` into ``_build/assignments/NAME/``: ``student/NAME.ipynb``
-(solutions and hidden tests removed: what students get) and ``autograder/`` (the solution notebook
-and the autograder zip). :func:`grade` grades a notebook with ``otter run`` (locally, no
-container; the kernel is this environment's, with ``orrc`` installed). :func:`main` grades each
+reads notebooks), makes its autograder self-contained (:func:`self_contained`: the orrc wheel and the
+pinned requirements of :mod:`tools.autograder_env` in its config) and runs ``otter assign`` into
+``_build/assignments/NAME/``: ``student/NAME.ipynb`` (solutions and hidden tests removed: what
+students get) and ``autograder/`` (the solution notebook and the autograder zip). :func:`grade`
+grades a notebook with ``otter run`` (locally, no container; by default with this environment's
+otter and kernel, or with another interpreter's, e.g. a fresh environment built from the zip
+alone). Questions marked ``manual: true`` are written answers graded by hand (no tests; their
+points in the question's config). :func:`main` grades each
 solution notebook and each untouched student notebook and prints one line per assignment,
 
     NAME: solution P/P points, blank Q/P points
@@ -217,8 +221,8 @@ def grade(notebook: Path, autograder: Path, workdir: Path, python: str | None = 
         shutil.rmtree(workdir)
     workdir.mkdir(parents=True)
     cmd = [python, "-m", "otter"] if python else [_bin("otter")]
-    proc = subprocess.run([*cmd, "run", "-a", str(autograder), "-o", str(workdir), "--no-logo", str(notebook)],
-                          capture_output=True, text=True)
+    proc = subprocess.run([*cmd, "run", "-a", str(Path(autograder).resolve()), "-o", str(workdir.resolve()), "--no-logo",
+                           str(Path(notebook).resolve())], capture_output=True, text=True, cwd=workdir)
     results = workdir / "results.json"
     if not results.is_file():
         raise RuntimeError(f"otter run wrote no results for {notebook}:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")

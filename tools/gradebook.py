@@ -36,6 +36,7 @@ from pathlib import Path
 from tools.assignments import OUT, _bin
 
 _NAME_ERROR = re.compile(r"NameError: name '(\w+)' is not defined")
+_UNDEFINED = re.compile(r"NoneType'? object (?:is not callable|is not subscriptable|is not iterable|has no attribute)")
 
 
 def autograder_zip(name: str, out: Path = OUT) -> Path:
@@ -104,6 +105,7 @@ def grade_one(path: Path, zip_path: Path, work: Path, expected: str, cases: dict
     note = precheck(path, expected)
     failed: dict[str, list[str]] = {}
     missing: set[str] = set()
+    undefined: list[str] = []
     if not note:
         if work.exists():
             shutil.rmtree(work)
@@ -121,9 +123,11 @@ def grade_one(path: Path, zip_path: Path, work: Path, expected: str, cases: dict
             scores[q] = float(t.get("score") or 0.0)
             failed[q] = [cases[q][i - 1]["message"] for i in sorted(_failed_cases(q, output)) if i <= len(cases[q])]
             missing |= set(_NAME_ERROR.findall(output))
-        if missing:
-            note = ("not defined when the tests ran (its cell raised an error, or was deleted): "
-                    + ", ".join(sorted(missing)))
+            if _UNDEFINED.search(output):  # otter passes None for a name the notebook never defined
+                undefined.append(q)
+        if missing or undefined:
+            note = ("an answer was not defined when the tests ran (its cell raised an error, was deleted or left unanswered): "
+                    + ", ".join(sorted(missing) + [f"a name {q} needs" for q in undefined]))
     possible = {q: sum(c["points"] for c in cs) for q, cs in cases.items()}
     lines = [f"# Feedback: {student}, {expected}", "",
              f"Total: {sum(scores.values()):g} / {sum(possible.values()):g} points", ""]
@@ -169,7 +173,12 @@ def main(argv=None) -> int:
         print(f"gradebook: {args.submissions} is not a folder of submissions", file=sys.stderr)
         return 2
     out = args.out or Path("grades") / args.name
-    rows = grade_folder(args.name, args.submissions, out, args.autograder)
+    try:
+        zip_path = args.autograder or autograder_zip(args.name)
+    except FileNotFoundError as exc:
+        print(f"gradebook: {exc}", file=sys.stderr)
+        return 2
+    rows = grade_folder(args.name, args.submissions, out, zip_path)
     print(f"{len(rows)} submissions graded: {out / 'gradebook.csv'}, feedback in {out / 'feedback'}/"
           + "".join(f"\n  {r['student']}: {r['note']}" for r in rows if r["note"]))
     return 0
