@@ -6,8 +6,9 @@ The commands are read from the documents (every ``bash`` block that runs ``otter
 ``make assignments``: the repository's ``tools`` and ``.venv``, the session's built assignments as
 ``_build/assignments``, one student's ``submission.ipynb`` and a class folder ``submissions/``
 with one notebook of each kind: right, one question wrong, blank, broken (a cell raises), empty,
-another assignment's, not a notebook. The gradebook must hold one row per student with the right
-points, and nothing handed back may quote a hidden test.
+another assignment's, not a notebook, and a right one handed in as the export cell's zip. The
+gradebook must hold one row per student with the right points, and nothing handed back may
+quote a hidden test.
 """
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ import csv
 import re
 import shutil
 import subprocess
+import zipfile
 from pathlib import Path
 
 import nbformat
@@ -60,8 +62,11 @@ def _class_folder(graded, folder: Path) -> dict[str, str]:
     other = next(n for n in graded if n != FIRST)
     shutil.copy(graded[other]["paths"]["solution"], folder / "foreign.ipynb")
     (folder / "not_a_notebook.ipynb").write_text("my answers are in the PDF\n", encoding="utf-8")
+    with zipfile.ZipFile(folder / "exported.zip", "w") as zf:   # what the export cell writes
+        zf.write(r["paths"]["solution"], f"{FIRST}.ipynb")
+        zf.writestr(".OTTER_LOG", b"")
     return {"right": "right", "blank": "blank", "one_wrong": label, "broken": "broken", "empty": "empty",
-            "foreign": other, "not_a_notebook": "text"}
+            "foreign": other, "not_a_notebook": "text", "exported": "right, as the export cell's zip"}
 
 
 @pytest.fixture(scope="module")
@@ -100,6 +105,7 @@ def test_the_gradebook_of_a_class(clone, graded):
     assert list(rows["right"])[1:len(questions) + 1] == questions, "one column per question, in order"
     possible = float(rows["right"]["possible"])
     assert float(rows["right"]["total"]) == possible and not rows["right"]["note"]
+    assert float(rows["exported"]["total"]) == possible and not rows["exported"]["note"]
     wrong_q = [q for q in questions if float(rows["one_wrong"][q]) < graded[FIRST]["grades"]["solution"]["questions"][q][1]]
     assert len(wrong_q) == 1 and float(rows["one_wrong"]["total"]) < possible
     assert float(rows["blank"]["total"]) <= 0.25 * possible

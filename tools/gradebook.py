@@ -2,7 +2,8 @@
 
     .venv/bin/python -m tools.gradebook a1_preview_rhc submissions/ -o grades/a1
 
-grades every file of ``submissions/`` (one per student, the student named by the file's stem)
+grades every file of ``submissions/`` (one per student, the student named by the file's stem: a
+notebook, or the zip that the notebook's export cell writes)
 with the assignment's autograder (``otter run``, locally, two at a time) and writes, in the
 output folder (created),
 
@@ -94,6 +95,24 @@ def precheck(path: Path, expected: str) -> str:
     return ""
 
 
+def unpacked(path: Path, work: Path) -> tuple[Path, str]:
+    """The notebook to grade and a note: ``path`` itself, or the one notebook of the zip that otter's
+    export cell writes (unpacked into ``work``, which is made empty first)."""
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    if not zipfile.is_zipfile(path):
+        return path, ""
+    with zipfile.ZipFile(path) as zf:
+        inside = [n for n in zf.namelist() if n.endswith(".ipynb") and "/" not in n.strip("/")]
+        if len(inside) != 1:
+            return path, f"a zip with {len(inside)} notebooks at its top level (one expected); nothing was graded"
+        target = work / "submission" / inside[0]
+        target.parent.mkdir()
+        target.write_bytes(zf.read(inside[0]))
+    return target, ""
+
+
 def _failed_cases(question: str, output: str) -> set[int]:
     return {int(i) for i in re.findall(rf"{re.escape(question)} - (\d+) result:\s*\n\s*❌", output)}
 
@@ -102,14 +121,14 @@ def grade_one(path: Path, zip_path: Path, work: Path, expected: str, cases: dict
     """Grade one submission: {"student", "scores": {question: points}, "note", "feedback": text}."""
     student = path.stem
     scores = {q: 0.0 for q in cases}
-    note = precheck(path, expected)
+    path, note = unpacked(path, work)
+    note = note or precheck(path, expected)
     failed: dict[str, list[str]] = {}
     missing: set[str] = set()
     undefined: list[str] = []
     if not note:
-        if work.exists():
-            shutil.rmtree(work)
-        work.mkdir(parents=True)
+        for old in work.glob("results*"):
+            shutil.rmtree(old) if old.is_dir() else old.unlink()
         proc = subprocess.run([_bin("otter"), "run", "-a", str(zip_path), "-o", str(work), "--no-logo", str(path)],
                               capture_output=True, text=True)
         results = work / "results.json"
