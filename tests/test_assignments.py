@@ -188,8 +188,10 @@ def test_a_solution_outside_a_solution_block_is_refused(tmp_path):
         "```{raw-cell}\n# END SOLUTION\n```\n", "", 1)
     (tmp_path / NAMES[0]).mkdir()
     (tmp_path / NAMES[0] / f"{NAMES[0]}.md").write_text(text, encoding="utf-8")
+    wheel = tmp_path / "orrc-0.0.0-py3-none-any.whl"   # packed, never installed: no need to build one
+    wheel.write_bytes(b"")
     with pytest.raises(RuntimeError, match="still holds solution"):
-        assignments.build(NAMES[0], tmp_path / "out", tmp_path)
+        assignments.build(NAMES[0], tmp_path / "out", tmp_path, wheel)
 
 
 def test_assignments_are_excluded_from_the_book():
