@@ -171,8 +171,9 @@ FORCED_FAILURE = {"sqpmethod.max_iter": 1, "ipopt.max_iter": 1}
 
 
 # ---------------------------------------------------------------- the graded assignments, in the background
-# Grading the assignments (tests/test_assignments.py: otter assign, then otter run on three notebooks
-# of each) takes a couple of minutes, mostly waiting on kernels; it starts as soon as the tests are
+# Grading the assignments (tests/test_assignments.py: otter assign, then otter run on the solution, the
+# blank notebook and each wrong submission of each, in a fresh environment built from the autograder
+# zip) takes a couple of minutes, mostly waiting on kernels; it starts as soon as the tests are
 # collected, runs beside the rest of the suite (the book build included), and the tests that read
 # its results run last.
 _GRADING = {}
@@ -183,10 +184,16 @@ def _start_grading():
 
     from tools import assignments
 
+    from fresh_env import autograder_env
+
     fixtures = ROOT / "tests" / "fixtures" / "assignments"
     pool = ThreadPoolExecutor(max_workers=1)
-    _GRADING["future"] = pool.submit(assignments.run_all, BOOK_OUT / "_build" / "assignments",
-                                     extra=lambda n: {"wrong": fixtures / f"{n}_wrong.md"})
+    # every notebook is graded by the otter of a fresh environment built from the autograder zip
+    # alone (tests/fresh_env.py: built once, shared by every assignment, reused while nothing changes)
+    _GRADING["future"] = pool.submit(
+        assignments.run_all, BOOK_OUT / "_build" / "assignments",
+        extra=lambda n: {p.stem[len(n) + 1:]: p for p in sorted(fixtures.glob(f"{n}_wrong*.md"))},
+        python=lambda paths: str(autograder_env(paths["autograder"])))
     pool.shutdown(wait=False)
 
 

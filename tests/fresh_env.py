@@ -143,3 +143,20 @@ def orrc_wheel(root: Path = ROOT) -> Path:
         shutil.rmtree(out, ignore_errors=True)
         tmp.rename(out)
         return sorted(out.glob("orrc-*.whl"))[0]
+
+
+def autograder_env(zip_path: Path, name: str = "autograder") -> Path:
+    """The Python of a fresh environment built from an otter autograder zip alone: the ``pip:``
+    list of its ``environment.yml`` (as otter's ``setup.sh`` installs it in the grading image),
+    installed from the zip's unpacked files (its ``files/`` holds the wheels it names)."""
+    import tempfile
+    import zipfile
+
+    import yaml
+
+    with tempfile.TemporaryDirectory() as tmp:
+        with zipfile.ZipFile(zip_path) as zf:
+            zf.extractall(tmp)
+        env = yaml.safe_load((Path(tmp) / "environment.yml").read_text(encoding="utf-8"))
+        pip = next(d["pip"] for d in env["dependencies"] if isinstance(d, dict) and "pip" in d)
+        return fresh_env(name, pip, base=Path(tmp))

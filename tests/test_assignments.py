@@ -1,12 +1,15 @@
-"""The graded assignments (issue 15): otter-grader builds them, their solutions get full marks, and
-neither an untouched student notebook nor a plausible wrong submission does.
+"""The graded assignments (issues 15 and 20): otter-grader builds them, their autograders grade
+anywhere, their solutions get full marks, and each plausible wrong submission loses points in
+its own question only.
 
 One session fixture (``graded``, in conftest.py: it starts when the tests are collected and
 runs beside the rest of the suite) builds every assignment of ``assignments/`` (``tools.assignments``: jupytext
-to .ipynb, ``otter assign``, then ``otter run`` locally) and grades three notebooks of each: the
-solution notebook, the blank student notebook, and the plausible wrong submission of
-``tests/fixtures/assignments/NAME_wrong.md`` (its answer cells filled into the student notebook,
-as a student fills them in). These are the checks ``make assignments`` prints.
+to .ipynb, ``otter assign``, the orrc wheel and the pinned requirements put in the autograder zip)
+and grades, with the otter of a fresh environment built from the autograder zip alone
+(``tests/fresh_env.py``), the solution notebook, the blank student notebook, and each plausible
+wrong submission ``tests/fixtures/assignments/NAME_wrong*.md`` (its answer cells filled into the
+student notebook, as a student fills them in; its front matter names the one question it gets
+wrong). These are the checks ``make assignments`` prints, and more.
 Graded solutions stay out of the book: ``assignments/`` is excluded from it, and no solution
 line or hidden test of an assignment is in the built HTML.
 """
@@ -18,6 +21,8 @@ from pathlib import Path
 import pytest
 import yaml
 
+import sys
+
 from conftest import BOOK_OUT
 from tools import assignments
 
@@ -26,43 +31,130 @@ FIXTURES = ROOT / "tests" / "fixtures" / "assignments"
 NAMES = assignments.names()
 
 
-def test_at_least_four_assignments_one_per_part_of_the_paper():
-    assert len(NAMES) >= 4, NAMES
+def wrong_submissions(name: str) -> dict[str, dict]:
+    """The plausible wrong submissions of an assignment: {label: front matter} (label as graded)."""
+    out = {}
+    for p in sorted(FIXTURES.glob(f"{name}_wrong*.md")):
+        front = yaml.safe_load(p.read_text(encoding="utf-8").split("---")[1])
+        out[p.stem[len(name) + 1:]] = front["orrc_wrong"]
+    return out
+
+
+def test_five_assignments_one_per_part_of_the_paper():
+    """Each of the paper's three algorithms (and Theorem 1 and the comparison) is assessed."""
+    assert len(NAMES) >= 5, NAMES
     chapters = {ch for n in NAMES for ch in assignments.read_assignment(assignments.SOURCES / n / f"{n}.md")["chapters"]}
-    for part in ("book/preview_rhc", "book/theorem1", "book/unknown_systems", "book/comparison"):
+    for part in ("book/preview_rhc", "book/theorem1", "book/unknown_systems", "book/minmax", "book/comparison"):
         assert part in chapters, f"no assignment goes with {part}"
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_every_assignment_has_a_plausible_wrong_submission(name):
-    assert (FIXTURES / f"{name}_wrong.md").is_file(), f"tests/fixtures/assignments/{name}_wrong.md is missing"
+def test_every_assignment_asks_for_a_prediction_a_derivation_and_an_explanation(name):
+    qs = assignments.read_assignment(assignments.SOURCES / name / f"{name}.md")["questions"]
+    kinds = {k for q in qs for k in ("predict", "derivation") if k in q["name"]}
+    assert kinds == {"predict", "derivation"}, f"{name}: questions {[q['name'] for q in qs]}"
+    predict = next(q for q in qs if "predict" in q["name"])
+    assert sum(t["hidden"] for t in predict["tests"]) >= 2, f"{name}: the prediction and the verification are graded"
+    assert any(q["manual"] and q["manual_points"] > 0 for q in qs), f"{name}: no written question graded by hand"
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_every_assignment_has_a_plausible_wrong_submission_of_one_question(name):
+    wrong = wrong_submissions(name)
+    questions = {q["name"] for q in assignments.read_assignment(assignments.SOURCES / name / f"{name}.md")["questions"]}
+    assert wrong, f"tests/fixtures/assignments/{name}_wrong.md is missing"
+    for label, front in wrong.items():
+        assert front["question"] in questions, f"{name}_{label}: names no question of {name}"
+
+
+@pytest.mark.slow
+def test_graded_in_a_fresh_environment_built_from_the_zip_alone(graded):
+    """The grading otter ran in a virtual environment built from the zip's environment.yml alone
+    (pip from the registry, the zip's own orrc wheel), not in the project's .venv."""
+    import subprocess
+
+    for name, r in graded.items():
+        exe = Path(r["python"])
+        assert "fresh-envs" in exe.parts and ROOT / ".venv" not in exe.parents, f"{name} graded by {exe}"
+        where = subprocess.run([str(exe), "-c", "import orrc, otter; print(orrc.__file__)"], capture_output=True,
+                               text=True, check=True, cwd=Path(r["paths"]["student"]).parent).stdout.strip()
+        assert "site-packages" in where and not where.startswith(str(ROOT / "orrc")), where
+
+
+@pytest.mark.slow
+def test_autograder_zips_carry_their_environment(graded):
+    """Each zip declares, in otter's environment.yml, the Python tested here and pinned pip lines
+    only, and carries the orrc wheel it names in files/."""
+    import zipfile
+
+    for name, r in graded.items():
+        with zipfile.ZipFile(r["paths"]["autograder"]) as zf:
+            env = yaml.safe_load(zf.read("environment.yml"))
+            files = set(zf.namelist())
+        pip = next(d["pip"] for d in env["dependencies"] if isinstance(d, dict))
+        assert f"python={sys.version_info.major}.{sys.version_info.minor}" in env["dependencies"]
+        wheels = [p for p in pip if p.endswith(".whl")]
+        assert len(wheels) == 1 and wheels[0] in files, (name, wheels)
+        assert all("==" in p for p in pip if p not in wheels), [p for p in pip if "==" not in p and p not in wheels]
+        assert any(p.startswith("otter-grader[grading]==") for p in pip) and any(p.startswith("numpy==") for p in pip)
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", NAMES)
-def test_solution_gets_full_marks_and_blank_and_wrong_do_not(graded, name):
+def test_solution_gets_full_marks_and_blank_does_not(graded, name):
     r = graded[name]
-    sol, blank, wrong = (r["grades"][k] for k in ("solution", "blank", "wrong"))
+    sol, blank = r["grades"]["solution"], r["grades"]["blank"]
     assert sol["points"] > 0 and sol["score"] == sol["points"], assignments.summary([r])[0]
-    assert blank["points"] == wrong["points"] == sol["points"]
-    assert blank["score"] < blank["points"], f"{name}: the untouched student notebook gets full marks"
-    assert wrong["score"] < wrong["points"], f"{name}: the plausible wrong submission gets full marks"
+    assert blank["points"] == sol["points"]
+    assert blank["score"] <= 0.25 * blank["points"], f"{name}: the untouched student notebook gets {blank['score']:g}"
     assert re.fullmatch(rf"{name}: solution (\d+)/\1 points, blank \d+/\1 points", assignments.line(r))
 
 
+def _failed(output: str, question: str) -> set[int]:
+    """Which test cases of a question failed (otter numbers them in order: "q - 2 result: ❌ ...")."""
+    return {int(i) for i in re.findall(rf"{re.escape(question)} - (\d+) result:\s*\n\s*❌", output)}
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("name", NAMES)
-def test_a_hidden_test_catches_the_wrong_submission(graded, name):
-    """The wrong submission fails a hidden test, not only the public ones students see.
+def test_one_wrong_question_costs_its_own_points_only(graded, name):
+    """Each question is graded on its own: a submission whose only mistake is in one question loses
+    points there, and every other question gets full marks."""
+    for label, front in wrong_submissions(name).items():
+        got = graded[name]["grades"][label]["questions"]
+        for q, (score, pts, _) in got.items():
+            if q == front["question"]:
+                assert score < pts, f"{name}_{label}: its wrong {q} gets full marks"
+            else:
+                assert score == pts, f"{name}_{label}: {q} loses points ({score:g}/{pts:g}) for a mistake in {front['question']}"
 
-    otter's output for a question numbers its test cases in order ("q - 2 result: ❌ ...")."""
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", NAMES)
+def test_wrong_submissions_fail_a_hidden_test_and_a_public_one_where_fair(graded, name):
+    """A hidden test always catches a plausible wrong submission; a public test too where the fixture
+    says it is fair to point at it, with the message that says what to check."""
     meta = assignments.read_assignment(assignments.SOURCES / name / f"{name}.md")
-    failed_hidden = []
-    for q in meta["questions"]:
-        output = graded[name]["grades"]["wrong"]["questions"][q["name"]][2]
-        failed = {int(i) for i in re.findall(rf"{re.escape(q['name'])} - (\d+) result:\s*\n\s*❌", output)}
-        failed_hidden += [t["name"] for i, t in enumerate(q["tests"], 1) if i in failed and t["hidden"]]
-    assert failed_hidden, f"{name}: the wrong submission fails no hidden test"
+    tests = {q["name"]: q["tests"] for q in meta["questions"]}
+    for label, front in wrong_submissions(name).items():
+        q = front["question"]
+        output = graded[name]["grades"][label]["questions"][q][2]
+        failed = [tests[q][i - 1] for i in sorted(_failed(output, q))]
+        assert any(t["hidden"] for t in failed), f"{name}_{label}: no hidden test of {q} fails"
+        public = [t for t in failed if not t["hidden"]]
+        if front.get("public_test_catches_it"):
+            assert public, f"{name}_{label}: no public test of {q} catches it"
+            assert all(t["checks"] in output for t in public)
+
+
+@pytest.mark.slow
+def test_student_notebooks_end_with_the_export_cell(graded):
+    import nbformat
+
+    for name, r in graded.items():
+        nb = nbformat.read(r["paths"]["student"], as_version=4)
+        last = [c for c in nb.cells if c.cell_type == "code"][-1]
+        assert "grader.export(" in last.source, f"{name}: the last code cell is not otter's export cell"
 
 
 @pytest.mark.slow
@@ -96,8 +188,10 @@ def test_a_solution_outside_a_solution_block_is_refused(tmp_path):
         "```{raw-cell}\n# END SOLUTION\n```\n", "", 1)
     (tmp_path / NAMES[0]).mkdir()
     (tmp_path / NAMES[0] / f"{NAMES[0]}.md").write_text(text, encoding="utf-8")
+    wheel = tmp_path / "orrc-0.0.0-py3-none-any.whl"   # packed, never installed: no need to build one
+    wheel.write_bytes(b"")
     with pytest.raises(RuntimeError, match="still holds solution"):
-        assignments.build(NAMES[0], tmp_path / "out", tmp_path)
+        assignments.build(NAMES[0], tmp_path / "out", tmp_path, wheel)
 
 
 def test_assignments_are_excluded_from_the_book():
@@ -121,3 +215,19 @@ def test_no_assignment_solution_in_the_built_book(book, tmp_path):
         text = p.read_text(encoding="utf-8", errors="replace")
         hits = [ln for ln in lines if ln in text]
         assert not hits, f"{p.relative_to(html)} holds assignment solution text: {hits[:2]}"
+
+
+def test_every_exercise_has_time_and_difficulty_in_the_guide():
+    """The guide's table tags every exercise of the book (kind, time, difficulty), and the syllabus
+    sets every assignment."""
+    from tools.toc import toc_pages
+
+    guide = (ROOT / "book" / "instructors.md").read_text(encoding="utf-8")
+    rows = dict(re.findall(r"^\| \{ref\}`(ex-[\w-]+)` \| ([^|]+\| \d+ min \| ★+) \|$", guide, re.M))
+    labels = [m for p in toc_pages(ROOT) if p != "book/instructors" and (ROOT / f"{p}.md").is_file()
+              for m in re.findall(r"^:label: (ex-[\w-]+)$", (ROOT / f"{p}.md").read_text(encoding="utf-8"), re.M)]
+    assert labels, "no exercise found"
+    missing = [lb for lb in labels if lb not in rows]
+    assert not missing, f"exercises without time and difficulty in the guide's table: {missing}"
+    syllabus = guide[guide.index("## Syllabus"):guide.index("## The exercises")]
+    assert all(re.search(rf"\| {i}\b|\b{i}; exam|, and {i}|\b{i} \|", syllabus) for i in range(1, 6))

@@ -4,7 +4,9 @@ The solution-free edition strips solutions by the format reader (tools/solutions
 solution it misread would leak: each malformed chapter below is refused with a FormatError
 naming the line and the problem. The assignment reader (tools.assignments.read_assignment,
 behind the instructor's guide) refuses a source without its metadata, a question without
-tests, and a test message that would break the test file otter assign writes.
+tests (or, graded by hand, without points), and a test message that would break the test file
+otter assign writes. The class gradebook (tools.gradebook) refuses an assignment without a built
+autograder and a submissions path that is not a folder, naming them.
 """
 import tempfile
 from pathlib import Path
@@ -44,6 +46,9 @@ ASSIGNMENT_CASES = [
     case("assignment-quote-in-message", lambda: read_assignment(_assignment(
         HEADER.format(meta=META) + QUESTION.format(tests=TEST.format(msg='keys "a" and "b"')))),
          "test_it", "double quote", exc=ValueError),
+    case("assignment-manual-without-points", lambda: read_assignment(_assignment(
+        HEADER.format(meta=META) + QUESTION.format(tests="").replace("name: q1\n", "name: q1\nmanual: true\n"))),
+         "q1", "manual", "points", exc=ValueError),
     case("assignment-test-without-message", lambda: read_assignment(_assignment(
         HEADER.format(meta=META) + QUESTION.format(tests=TEST.format(msg="m").replace("failure_message: m\n", "")))),
          "test_it", "failure_message", exc=ValueError),
@@ -100,3 +105,14 @@ def test_a_shorter_inner_fence_does_not_close_the_solution():
     assert sol.code_in_prose == ["print(1)"]
     assert "Still the solution." in sol.prose
     assert strip_solutions(text).endswith("```\nOut.\n") and "Still" not in strip_solutions(text)
+
+
+def test_the_gradebook_refuses_what_it_cannot_grade(tmp_path, capsys):
+    from tools import gradebook
+
+    (tmp_path / "subs").mkdir()
+    assert gradebook.main(["a9_nowhere", str(tmp_path / "subs"), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "a9_nowhere" in err and "make assignments" in err
+    assert gradebook.main(["a9_nowhere", str(tmp_path / "missing")]) == 2
+    assert "not a folder" in capsys.readouterr().err

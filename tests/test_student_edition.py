@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 
 from conftest import BOOK_OUT
-from tools.build_student import stripped_copy
+from tools.build_student import INSTRUCTOR_PAGES, for_students, stripped_copy
 from tools.solutions import parse, strip_solutions
 from tools.toc import notebook_pages, toc_pages
 
@@ -118,14 +118,10 @@ def code_fragments(sources: list[str]) -> list[str]:
 
 @lru_cache(maxsize=None)
 def legit_text() -> str:
-    """Everything the student edition may show: every page's source without its solutions, and what
-    the instructor's guide reads from the assignments (the messages of their tests)."""
-    from tools import assignments
-
-    guide = [t["checks"] for n in assignments.names()
-             for q in assignments.read_assignment(assignments.SOURCES / n / f"{n}.md")["questions"] for t in q["tests"]]
-    return normal_form("\n".join([strip_solutions((ROOT / f"{p}.md").read_text(encoding="utf-8"), p) for p in SOURCES]
-                                  + guide))
+    """Everything the student edition may show: every page's source for students (without its
+    solutions and its instructor-only blocks); not the instructor's guide, which it leaves out."""
+    return normal_form("\n".join(strip_solutions(for_students((ROOT / f"{p}.md").read_text(encoding="utf-8")), p)
+                                  for p in SOURCES if p not in INSTRUCTOR_PAGES))
 
 
 def distinctive(solution) -> list[str]:
@@ -233,7 +229,44 @@ def test_every_exercise_statement_is_still_there(student_book, page):
 
 def test_the_stripped_copy_keeps_every_page_but_the_solutions(tmp_path):
     removed = stripped_copy(tmp_path / "src")
+    toc = (tmp_path / "src" / "_toc.yml").read_text(encoding="utf-8")
+    for page in INSTRUCTOR_PAGES:
+        assert not (tmp_path / "src" / f"{page}.md").exists() and page not in toc, f"{page} is for instructors only"
     for page, ch in SOURCES.items():
+        if page in INSTRUCTOR_PAGES:
+            continue
         copy = parse(tmp_path / "src" / f"{page}.md")
         assert copy.solutions == [] and [e.label for e in copy.exercises] == [e.label for e in ch.exercises]
         assert removed[page] == len(ch.solutions)
+
+
+def guide_fragments() -> list[str]:
+    """What only the instructor's guide says: its prose (runs of plain words no page for students
+    has), and every message of every assignment test, which the guide lists."""
+    from tools import assignments
+
+    paragraphs = [para.split("\n") for page in INSTRUCTOR_PAGES
+                  for para in (ROOT / f"{page}.md").read_text(encoding="utf-8").split("\n\n")
+                  if not para.lstrip().startswith(("#", "|", "`", "(", ":"))]
+    frags = [f for para in paragraphs for f in prose_fragments(para)]
+    frags = [f for f in frags if f not in legit_text()]
+    messages = [normal_form(t["checks"]) for n in assignments.names()
+                for q in assignments.read_assignment(assignments.SOURCES / n / f"{n}.md")["questions"] for t in q["tests"]]
+    return sorted(set(frags)) + messages
+
+
+def test_no_instructor_guide_in_the_student_edition(student_tree):
+    """The guide (its page, its links, its text, the assignments' test messages it lists) and the
+    preface's words for instructors are not in the student edition."""
+    frags = guide_fragments()
+    assert len(frags) > 40
+    dropped = [f for f in prose_fragments(["Their solutions sit in dropdowns right below them"]) if f not in legit_text()]
+    assert dropped
+    html = [(path, texts) for path, texts in student_tree.items() if (STUDENT / "html") in path.parents]
+    assert len(html) > 20
+    for path, texts in html:   # what is handed out (the build's own source copy holds the tools' code)
+        assert "instructors" not in path.name, f"{path.relative_to(STUDENT)}: a page of the guide"
+        hits = _hits(frags + dropped, texts)
+        assert not hits, f"{path.relative_to(STUDENT)}: text for instructors: {hits[:2]}"
+        if path.suffix == ".html":
+            assert not any("instructors.html" in t for t in texts), f"{path.relative_to(STUDENT)}: links to the guide"

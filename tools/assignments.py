@@ -7,10 +7,14 @@ questions, their solutions and their tests in otter-grader 7's assign format (ra
 it needs and how long a student takes (``orrc_assignment: {chapters: [...], minutes: N}``).
 
 For every assignment, :func:`build` converts the source to ``.ipynb`` (jupytext; otter assign
-reads notebooks) and runs ``otter assign`` into ``_build/assignments/NAME/``: ``student/NAME.ipynb``
-(solutions and hidden tests removed: what students get) and ``autograder/`` (the solution notebook
-and the autograder zip). :func:`grade` grades a notebook with ``otter run`` (locally, no
-container; the kernel is this environment's, with ``orrc`` installed). :func:`main` grades each
+reads notebooks), makes its autograder self-contained (:func:`self_contained`: the orrc wheel and the
+pinned requirements of :mod:`tools.autograder_env` in its config) and runs ``otter assign`` into
+``_build/assignments/NAME/``: ``student/NAME.ipynb`` (solutions and hidden tests removed: what
+students get) and ``autograder/`` (the solution notebook and the autograder zip). :func:`grade`
+grades a notebook with ``otter run`` (locally, no container; by default with this environment's
+otter and kernel, or with another interpreter's, e.g. a fresh environment built from the zip
+alone). Questions marked ``manual: true`` are written answers graded by hand (no tests; their
+points in the question's config). :func:`main` grades each
 solution notebook and each untouched student notebook and prints one line per assignment,
 
     NAME: solution P/P points, blank Q/P points
@@ -31,6 +35,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import yaml
+
+from tools import autograder_env
 
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = ROOT / "assignments"
@@ -75,7 +81,8 @@ def read_assignment(path: Path) -> dict:
     for cell in nb.cells:
         head, conf = _raw_header(cell)
         if head == "BEGIN QUESTION":
-            q = {"name": conf["name"], "tests": []}
+            q = {"name": conf["name"], "tests": [], "manual": bool(conf.get("manual")),
+                 "manual_points": float(conf.get("points") or 0) if conf.get("manual") else 0.0}
             questions.append(q)
         elif head == "BEGIN TESTS":
             in_tests = True
@@ -95,8 +102,10 @@ def read_assignment(path: Path) -> dict:
             q["tests"].append({"name": fn, "points": float(conf["points"]), "hidden": bool(conf.get("hidden")),
                                "checks": str(conf["failure_message"])})
     for q in questions:
-        if not q["tests"]:
+        if not q["tests"] and not q["manual"]:
             raise ValueError(f"{path}: question {q['name']} has no tests")
+        if q["manual"] and not q["manual_points"]:
+            raise ValueError(f"{path}: the manual question {q['name']} needs its points")
     chapters, titles = [], {}
     for entry in meta["chapters"]:  # a page of the book, or "Title <page>" for one not written yet
         m = re.fullmatch(r"\s*(?:(.*?)\s*<([^<>]+)>|([^<>]+?))\s*", str(entry))
@@ -105,7 +114,8 @@ def read_assignment(path: Path) -> dict:
         titles[page] = (m.group(1) or "").strip()
     return {"name": path.stem, "title": title, "chapters": chapters, "chapter_titles": titles,
             "minutes": int(meta["minutes"]),
-            "questions": questions, "points": sum(t["points"] for q in questions for t in q["tests"])}
+            "questions": questions, "points": sum(t["points"] for q in questions for t in q["tests"]),
+            "manual_points": sum(q["manual_points"] for q in questions)}
 
 
 def _bin(tool: str) -> str:
@@ -159,14 +169,33 @@ def leaked_solutions(master: Path, student: Path) -> list[str]:
     return [ln for ln in _solution_text(master) if ln in text]
 
 
-def build(name: str, out: Path = OUT, root: Path = SOURCES) -> dict:
+def self_contained(master: Path, wheel: Path) -> None:
+    """Make the autograder of ``master`` grade anywhere: its assignment config gets the orrc wheel
+    (``files``: in the zip's ``files/`` and beside the student notebook), the pinned requirements
+    grading imports in place of otter's default list, and the Python they are tested with
+    (see :mod:`tools.autograder_env`)."""
+    import nbformat
+
+    shutil.copy2(wheel, master.parent / wheel.name)
+    nb = nbformat.read(master, as_version=4)
+    cell = next(c for c in nb.cells if _raw_header(c)[0] == "ASSIGNMENT CONFIG")
+    conf = _raw_header(cell)[1]
+    conf.update(requirements=autograder_env.grading_requirements(wheel.name), overwrite_requirements=True,
+                files=sorted(set(conf.get("files", [])) | {wheel.name}), python_version=autograder_env.python_version())
+    cell.source = "# ASSIGNMENT CONFIG\n" + yaml.safe_dump(conf, sort_keys=False)
+    nbformat.write(nb, master)
+
+
+def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None = None) -> dict:
     """``otter assign`` one assignment into ``out/NAME``: paths of the student and solution notebooks
-    and of the autograder zip."""
+    and of the autograder zip. ``wheel``: the orrc wheel to put in the autograder (built if None)."""
     dest = Path(out) / name
     if dest.exists():
         shutil.rmtree(dest)
     master = to_ipynb(Path(root) / name / f"{name}.md", dest / "master" / f"{name}.ipynb")
-    proc = subprocess.run([_bin("otter"), "assign", str(master), str(dest / "dist")], capture_output=True, text=True)
+    self_contained(master, wheel or autograder_env.build_wheel(dest / "wheel"))
+    proc = subprocess.run([_bin("otter"), "assign", str(master), str(dest / "dist")], capture_output=True, text=True,
+                          cwd=master.parent)
     if proc.returncode != 0:
         raise RuntimeError(f"otter assign failed for {name}:\n{proc.stdout}\n{proc.stderr}")
     zips = sorted((dest / "dist" / "autograder").glob(f"{name}-autograder_*.zip"))
@@ -181,16 +210,19 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES) -> dict:
             "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0]}
 
 
-def grade(notebook: Path, autograder: Path, workdir: Path) -> dict:
+def grade(notebook: Path, autograder: Path, workdir: Path, python: str | None = None) -> dict:
     """Grade one notebook with ``otter run`` (local, no container): {"score", "points", "questions"}.
 
     ``questions`` maps each question to (score, max score) and its output (which test failed, why).
+    ``python``: the interpreter whose otter grades (default: this environment's), e.g. one of a
+    fresh environment built from the autograder zip alone.
     """
     if workdir.exists():
         shutil.rmtree(workdir)
     workdir.mkdir(parents=True)
-    proc = subprocess.run([_bin("otter"), "run", "-a", str(autograder), "-o", str(workdir), "--no-logo", str(notebook)],
-                          capture_output=True, text=True)
+    cmd = [python, "-m", "otter"] if python else [_bin("otter")]
+    proc = subprocess.run([*cmd, "run", "-a", str(Path(autograder).resolve()), "-o", str(workdir.resolve()), "--no-logo",
+                           str(Path(notebook).resolve())], capture_output=True, text=True, cwd=workdir)
     results = workdir / "results.json"
     if not results.is_file():
         raise RuntimeError(f"otter run wrote no results for {notebook}:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
@@ -212,7 +244,7 @@ def fill_in(student: Path, answers: Path, dest: Path) -> Path:
     import nbformat
 
     nb = nbformat.read(student, as_version=4)
-    slots = [c for c in nb.cells if "otter_answer_cell" in c.metadata.get("tags", [])]
+    slots = [c for c in nb.cells if c.cell_type == "code" and "otter_answer_cell" in c.metadata.get("tags", [])]
     code = [c.source for c in jupytext.read(answers, fmt="md:myst").cells if c.cell_type == "code"]
     if len(code) != len(slots):
         raise ValueError(f"{answers}: {len(code)} answer cells for the {len(slots)} of {student.name}")
@@ -223,16 +255,20 @@ def fill_in(student: Path, answers: Path, dest: Path) -> Path:
     return dest
 
 
-def build_and_grade(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None) -> dict:
+def build_and_grade(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None,
+                    wheel: Path | None = None, python=None) -> dict:
     """Build one assignment, then grade its solution notebook, its blank student notebook, and each
-    submission made from ``extra`` ({label: answers}, see :func:`fill_in`; e.g. a plausible wrong one)."""
+    submission made from ``extra`` ({label: answers}, see :func:`fill_in`; e.g. a plausible wrong one).
+    ``python(paths)``: the interpreter that grades (see :func:`grade`), given the built paths."""
     t0 = time.perf_counter()
-    paths = build(name, out, root)
+    paths = build(name, out, root, wheel)
     subs = {"solution": paths["solution"], "blank": paths["student"]}
     for label, answers in (extra or {}).items():
         subs[label] = fill_in(paths["student"], answers, Path(out) / name / "submissions" / f"{label}.ipynb")
-    grades = {label: grade(nb, paths["autograder"], Path(out) / name / "graded" / label) for label, nb in subs.items()}
-    return {"name": name, "paths": paths, "grades": grades, "seconds": time.perf_counter() - t0}
+    exe = python(paths) if python else None
+    grades = {label: grade(nb, paths["autograder"], Path(out) / name / "graded" / label, exe) for label, nb in subs.items()}
+    return {"name": name, "paths": paths, "grades": grades, "python": exe or sys.executable,
+            "seconds": time.perf_counter() - t0}
 
 
 def line(result: dict) -> str:
@@ -245,10 +281,14 @@ def ok(result: dict) -> bool:
     return s["points"] > 0 and s["score"] == s["points"] and b["score"] < b["points"]
 
 
-def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None) -> list[dict]:
-    """Build and grade every assignment (``workers`` at a time); ``extra(name)`` gives more notebooks to grade."""
+def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None, python=None) -> list[dict]:
+    """Build and grade every assignment (``workers`` at a time; one orrc wheel for all);
+    ``extra(name)`` gives more notebooks to grade, ``python`` the interpreter that grades (see
+    :func:`build_and_grade`)."""
+    wheel = autograder_env.build_wheel(Path(out) / "_wheel")
     with ThreadPoolExecutor(max_workers=workers) as pool:
-        return list(pool.map(lambda n: build_and_grade(n, out, root, extra(n) if extra else None), names(root)))
+        return list(pool.map(lambda n: build_and_grade(n, out, root, extra(n) if extra else None, wheel, python),
+                             names(root)))
 
 
 def summary(results: list[dict]) -> tuple[str, int]:

@@ -24,6 +24,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import shutil
 import sys
 import time
@@ -37,10 +38,43 @@ from tools.toc import notebook_pages
 
 COPIED = ("_config.yml", "_toc.yml", "book", "tools")
 TITLE_SUFFIX = " (student edition)"
+#: pages for instructors only: not copied, not in the copy's table of contents, links to them unlinked
+INSTRUCTOR_PAGES = ("book/instructors",)
+_INSTRUCTOR_BLOCK = re.compile(r"<!--\s*instructor-only\b.*?-->.*?<!--\s*/instructor-only\s*-->\n?", re.S)
+_STUDENT_TEXT = re.compile(r"<!--\s*student-edition:[^\n]*\n(.*?)-->\n?", re.S)
+
+
+def for_students(text: str) -> str:
+    """A page's text for the student edition: its ``<!-- instructor-only -->`` ...
+    ``<!-- /instructor-only -->`` blocks dropped, the text of its ``<!-- student-edition: ...`` comments
+    shown, and every reference to an instructor-only page turned into plain words."""
+    text = _STUDENT_TEXT.sub(lambda m: m.group(1), _INSTRUCTOR_BLOCK.sub("", text))
+    for page in INSTRUCTOR_PAGES:
+        label = page.rsplit("/", 1)[-1]
+        text = re.sub(rf"\{{(?:ref|doc)\}}`(?:([^`<]*?)\s*<)?/?(?:{re.escape(page)}|{re.escape(label)})>?`",
+                      lambda m: (m.group(1) or "the instructor's guide").strip(), text)
+    return text
+
+
+def _without_instructor_pages(entries: list) -> list:
+    out = []
+    for e in entries:
+        if e.get("file") not in INSTRUCTOR_PAGES:
+            out.append({k: (_without_instructor_pages(v) if k in ("chapters", "sections") else v) for k, v in e.items()})
+    return out
+
+
+def _student_toc(toc_path: Path) -> None:
+    toc = yaml.safe_load(toc_path.read_text(encoding="utf-8"))
+    for key in ("chapters", "parts"):
+        if key in toc:
+            toc[key] = _without_instructor_pages(toc[key])
+    toc_path.write_text(yaml.safe_dump(toc, sort_keys=False), encoding="utf-8")
 
 
 def stripped_copy(dest: Path, root: Path = ROOT) -> dict[str, int]:
-    """Copy the book's sources to ``dest`` with every solution removed; returns solutions removed per page."""
+    """Copy the book's sources to ``dest`` with every solution removed and without the pages for
+    instructors (:func:`for_students`); returns solutions removed per page."""
     if dest.exists():
         shutil.rmtree(dest)
     dest.mkdir(parents=True)
@@ -50,9 +84,12 @@ def stripped_copy(dest: Path, root: Path = ROOT) -> dict[str, int]:
             shutil.copytree(src, dest / name, ignore=shutil.ignore_patterns("__pycache__", "*.ipynb", ".ipynb_checkpoints"))
         else:
             shutil.copy2(src, dest / name)
+    for page in INSTRUCTOR_PAGES:
+        (dest / f"{page}.md").unlink(missing_ok=True)
+    _student_toc(dest / "_toc.yml")
     removed = {}
     for md in sorted((dest / "book").rglob("*.md")):
-        text = md.read_text(encoding="utf-8")
+        text = for_students(md.read_text(encoding="utf-8"))
         n = len(parse(text, str(md.relative_to(dest))).solutions)
         md.write_text(strip_solutions(text, str(md.relative_to(dest))), encoding="utf-8")
         removed[md.relative_to(dest).with_suffix("").as_posix()] = n

@@ -141,13 +141,15 @@ class AssignmentGuide(SphinxDirective):
         para += nodes.strong(text="Points: ")
         para += nodes.Text(f"{a['points']:g}, in {len(a['questions'])} questions "
                            f"({sum(len(q['tests']) for q in a['questions'])} tests, "
-                           f"{sum(t['hidden'] for q in a['questions'] for t in q['tests'])} of them hidden).")
+                           f"{sum(t['hidden'] for q in a['questions'] for t in q['tests'])} of them hidden)"
+                           + (f", and {a['manual_points']:g} points graded by hand." if a["manual_points"] else "."))
         questions = nodes.bullet_list()
         for q in a["questions"]:
             item = nodes.list_item()
             head = nodes.paragraph()
             head += nodes.literal(text=q["name"])
-            head += nodes.Text(f", {sum(t['points'] for t in q['tests']):g} points")
+            head += nodes.Text(f", {q['manual_points']:g} points, a written answer graded by hand" if q["manual"]
+                               else f", {sum(t['points'] for t in q['tests']):g} points")
             item += head
             tests = nodes.bullet_list()
             for t in q["tests"]:

@@ -1,0 +1,147 @@
+"""The grading commands as an instructor runs them (issue 20): every grading command of the README
+and of the instructor's guide, verbatim, and the class gradebook they write.
+
+The commands are read from the documents (every ``bash`` block that runs ``otter run`` or
+``tools.gradebook``) and run, as written, with bash in a folder laid out like a fresh clone after
+``make assignments``: the repository's ``tools`` and ``.venv``, the session's built assignments as
+``_build/assignments``, one student's ``submission.ipynb`` and a class folder ``submissions/``
+with one notebook of each kind: right, one question wrong, blank, broken (a cell raises), empty,
+another assignment's, not a notebook, and a right one handed in as the export cell's zip. The
+gradebook must hold one row per student with the right points, and nothing handed back may
+quote a hidden test.
+"""
+from __future__ import annotations
+
+import csv
+import re
+import shutil
+import subprocess
+import zipfile
+from pathlib import Path
+
+import nbformat
+import pytest
+
+from tools import assignments
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = (ROOT / "README.md", ROOT / "book" / "instructors.md")
+FIRST = "a1_preview_rhc"        # the assignment the documented commands grade
+
+
+def documented_commands() -> list[tuple[str, str]]:
+    """(document, block) for every bash block of the docs that grades (otter run, tools.gradebook)."""
+    out = []
+    for doc in DOCS:
+        for block in re.findall(r"```bash\n(.*?)```", doc.read_text(encoding="utf-8"), re.S):
+            if "otter run" in block or "tools.gradebook" in block:
+                out.append((doc.name, block))
+    return out
+
+
+def test_the_docs_document_grading_commands():
+    blocks = documented_commands()
+    assert {d for d, _ in blocks} == {"README.md", "instructors.md"}, blocks
+    assert any("tools.gradebook" in b for _, b in blocks) and any("otter run" in b for _, b in blocks)
+
+
+def _class_folder(graded, folder: Path) -> dict[str, str]:
+    """The fixture class: {student: kind}."""
+    r = graded[FIRST]
+    folder.mkdir(parents=True)
+    shutil.copy(r["paths"]["solution"], folder / "right.ipynb")
+    shutil.copy(r["paths"]["student"], folder / "blank.ipynb")
+    label = sorted(k for k in r["grades"] if k.startswith("wrong"))[0]
+    shutil.copy(Path(r["paths"]["student"]).parents[2] / "submissions" / f"{label}.ipynb", folder / "one_wrong.ipynb")
+    nb = nbformat.read(r["paths"]["solution"], as_version=4)
+    first = next(c for c in nb.cells if c.cell_type == "code" and "def preview_plan" in c.source)
+    first.source = "raise RuntimeError('my plan is not finished')\n"
+    nbformat.write(nb, folder / "broken.ipynb")
+    empty = nbformat.v4.new_notebook()
+    nbformat.write(empty, folder / "empty.ipynb")
+    other = next(n for n in graded if n != FIRST)
+    shutil.copy(graded[other]["paths"]["solution"], folder / "foreign.ipynb")
+    (folder / "not_a_notebook.ipynb").write_text("my answers are in the PDF\n", encoding="utf-8")
+    with zipfile.ZipFile(folder / "exported.zip", "w") as zf:   # what the export cell writes
+        zf.write(r["paths"]["solution"], f"{FIRST}.ipynb")
+        zf.writestr(".OTTER_LOG", b"")
+    return {"right": "right", "blank": "blank", "one_wrong": label, "broken": "broken", "empty": "empty",
+            "foreign": other, "not_a_notebook": "text", "exported": "right, as the export cell's zip"}
+
+
+@pytest.fixture(scope="module")
+def clone(graded, tmp_path_factory):
+    """A folder laid out like a fresh clone after make assignments, with the documented commands run in it."""
+    here = tmp_path_factory.mktemp("clone")
+    (here / "_build").mkdir()
+    (here / "_build" / "assignments").symlink_to(Path(graded[FIRST]["paths"]["student"]).parents[3])
+    (here / ".venv").symlink_to(ROOT / ".venv")
+    shutil.copytree(ROOT / "tools", here / "tools", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(graded[FIRST]["paths"]["solution"], here / "submission.ipynb")
+    kinds = _class_folder(graded, here / "submissions")
+    runs = []
+    for doc, block in documented_commands():
+        proc = subprocess.run(["bash", "-e", "-c", block], cwd=here, capture_output=True, text=True, timeout=900)
+        runs.append((doc, block, proc))
+    return {"dir": here, "kinds": kinds, "runs": runs}
+
+
+@pytest.mark.slow
+def test_every_documented_grading_command_works_as_written(clone):
+    for doc, block, proc in clone["runs"]:
+        assert proc.returncode == 0, f"{doc}:\n{block}\nexit {proc.returncode}\n{proc.stdout[-1500:]}\n{proc.stderr[-1500:]}"
+    results = list(clone["dir"].glob("results/**/results.json"))
+    assert results, "the documented otter run wrote no results.json"
+
+
+@pytest.mark.slow
+def test_the_gradebook_of_a_class(clone, graded):
+    book = clone["dir"] / "grades" / FIRST / "gradebook.csv"
+    assert book.is_file(), "the documented gradebook command wrote no gradebook.csv"
+    rows = {r["student"]: r for r in csv.DictReader(book.open(encoding="utf-8"))}
+    assert set(rows) == set(clone["kinds"]), "one row per submission"
+    questions = [q["name"] for q in assignments.read_assignment(assignments.SOURCES / FIRST / f"{FIRST}.md")["questions"]
+                 if q["tests"]]
+    assert list(rows["right"])[1:len(questions) + 1] == questions, "one column per question, in order"
+    possible = float(rows["right"]["possible"])
+    assert float(rows["right"]["total"]) == possible and not rows["right"]["note"]
+    assert float(rows["exported"]["total"]) == possible and not rows["exported"]["note"]
+    wrong_q = [q for q in questions if float(rows["one_wrong"][q]) < graded[FIRST]["grades"]["solution"]["questions"][q][1]]
+    assert len(wrong_q) == 1 and float(rows["one_wrong"]["total"]) < possible
+    assert float(rows["blank"]["total"]) <= 0.25 * possible
+    assert "not defined" in rows["broken"]["note"] and "q1_plan" in rows["broken"]["note"]
+    assert float(rows["broken"]["q1_plan"]) == 0 and "q4_regret" not in rows["broken"]["note"]
+    assert float(rows["broken"]["q4_regret"]) > 0, "a broken Q1 costs Q1 only"
+    assert "no cells" in rows["empty"]["note"] and float(rows["empty"]["total"]) == 0
+    assert clone["kinds"]["foreign"] in rows["foreign"]["note"] and float(rows["foreign"]["total"]) == 0
+    assert "not a Jupyter notebook" in rows["not_a_notebook"]["note"]
+    for student in rows:
+        assert (clone["dir"] / "grades" / FIRST / "feedback" / f"{student}.md").is_file(), student
+
+
+def hidden_test_lines(name: str) -> list[str]:
+    """The distinctive source lines of an assignment's hidden tests (12+ characters, not comments)."""
+    import jupytext
+
+    nb = jupytext.read(assignments.SOURCES / name / f"{name}.md", fmt="md:myst")
+    out = []
+    for cell in nb.cells:
+        if cell.cell_type == "code" and "BEGIN TEST CONFIG" in cell.source and "hidden: true" in cell.source:
+            body = cell.source.split("# END TEST CONFIG", 1)[1]
+            out += [ln.strip() for ln in body.splitlines() if len(ln.strip()) >= 12 and not ln.strip().startswith("#")]
+    return out
+
+
+@pytest.mark.slow
+def test_nothing_handed_back_quotes_a_hidden_test(clone):
+    lines = hidden_test_lines(FIRST)
+    assert len(lines) > 10
+    out = clone["dir"] / "grades" / FIRST
+    handed_back = [out / "gradebook.csv", *sorted((out / "feedback").glob("*.md"))]
+    for f in handed_back:
+        text = f.read_text(encoding="utf-8")
+        hits = [ln for ln in lines if ln in text]
+        assert not hits, f"{f.name} quotes hidden tests: {hits[:2]}"
+    raw = "\n".join(p.read_text(encoding="utf-8") for p in (out / "otter").glob("*/results.json"))
+    assert any(ln in raw for ln in lines), "otter's raw results (kept for the instructor) do quote them"
+
