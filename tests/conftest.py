@@ -245,3 +245,25 @@ def chromium():
         browser = p.chromium.launch(executable_path=path, args=["--no-sandbox", "--disable-gpu"])
         yield browser
         browser.close()
+
+
+def run_coroutine(coro):
+    """``asyncio.run(coro)`` in a thread of its own: the session's Chromium (Playwright's sync API)
+    keeps an event loop running in the main thread, where asyncio.run refuses to start another."""
+    import asyncio
+    import threading
+
+    result = {}
+
+    def target():
+        try:
+            result["value"] = asyncio.run(coro)
+        except BaseException as exc:   # re-raised in the caller's thread
+            result["error"] = exc
+
+    thread = threading.Thread(target=target)
+    thread.start()
+    thread.join()
+    if "error" in result:
+        raise result["error"]
+    return result.get("value")

@@ -23,7 +23,7 @@ import jupytext
 import nbformat
 import pytest
 
-from conftest import BOOK_OUT, ROOT
+from conftest import BOOK_OUT, ROOT, run_coroutine
 from tools.toc import notebook_pages
 
 CHAPTERS = notebook_pages()
@@ -82,7 +82,6 @@ def jupyterlab_save(path):
     contents manager, on a copy of the file. Without jupyter_server (no ``make lab``), the same steps
     with jupytext's reader and writer and the contents manager's metadata filter.
     """
-    import asyncio
     import shutil
     import tempfile
     from pathlib import Path
@@ -118,10 +117,10 @@ def jupyterlab_save(path):
     with tempfile.TemporaryDirectory() as tmp:
         shutil.copy(path, Path(tmp) / Path(path).name)
         cm = ChapterContentsManager(root_dir=tmp)
-        model = asyncio.run(cm.get(Path(path).name))
+        model = run_coroutine(cm.get(Path(path).name))
         assert model["content"]["metadata"].get("language_info", {}).get("name") == "python"
         as_after_run_all(model["content"])
-        asyncio.run(cm.save(model, Path(path).name))
+        run_coroutine(cm.save(model, Path(path).name))
         return (Path(tmp) / Path(path).name).read_text(encoding="utf-8")
 
 

@@ -135,7 +135,7 @@ def test_make_lab_shows_the_published_numbers_before_the_chapter_runs(tmp_path, 
     """make lab's contents manager hands out a chapter with its expressions' results from the
     published build (formatted as the HTML formats them), only when that build is of exactly these
     sources and at full size; a key the build did not glue stays an expression."""
-    import asyncio
+    from conftest import run_coroutine
     import json
 
     pytest.importorskip("jupyter_server")
@@ -150,7 +150,7 @@ def test_make_lab_shows_the_published_numbers_before_the_chapter_runs(tmp_path, 
     digest = inputs_digest(tmp_path) if stamp != "stale" else "0" * 64
     (tmp_path / "_build" / "orrc-build.json").write_text(json.dumps({"digest": digest, "quick": stamp == "test-size"}))
     cm = ChapterContentsManager(root_dir=str(tmp_path), book_root=str(tmp_path))
-    model = asyncio.run(cm.get("book/x.md"))
+    model = run_coroutine(cm.get("book/x.md"))
     results = [r for c in model["content"]["cells"] for r in c["metadata"].get("user_expressions", [])]
     if shown is None:
         assert results == []
