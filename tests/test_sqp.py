@@ -12,6 +12,8 @@ The tests compute every quantity (κ, the residuals, the multipliers) from the t
 assert that each solver's residual is within its tolerance, and that the answers agree within the
 bounds they imply (and to 1e-6 relative in J, the figure of issue 11).
 """
+import warnings
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -165,3 +167,41 @@ def test_warm_start_from_the_shifted_plan_needs_no_more_iterations_than_a_cold_s
     cold = [rhc.plan(warm.x[t], warm.w_all[t:t + M]) for t in range(T)]
     assert warm.iterations.sum() <= sum(p.iterations for p in cold)
     np.testing.assert_allclose(warm.values, [p.value for p in cold], rtol=1e-7)
+
+
+def _same_runs(a, b):
+    for k in ("x", "u", "costs", "values", "success", "iterations", "value_valid"):
+        assert np.array_equal(getattr(a, k), getattr(b, k), equal_nan=True), f"the runs differ in {k}"
+    assert (a.status, a.solver, a.fallback) == (b.status, b.solver, b.fallback), "the runs' records differ"
+
+
+@pytest.mark.parametrize("case", ["accepted", "ipopt rescues", "steps fail"])
+def test_the_warm_sqp_loop_is_the_controllers_own_closed_loop(case):
+    """orrc.simulate takes the common step of PreviewRHC (SQP from the shifted plan, accepted) in a loop of
+    its own (orrc._fast_loops.nlp_loop) and every other step through control(): the run is bit for bit the
+    one control() makes at every step, also where SQP fails and IPOPT or the fallback takes the step."""
+    ex = orrc.examples.inverted_pendulum()
+    w = orrc.disturbances.uniform_ball(80, 2, radius=0.02, seed=0)
+    kw, x0 = dict(M=10, input_bounds=ex.input_bounds), np.array([0.5, 0.0])
+    if case != "accepted":   # hard steps: a tight input bound far from the origin, SQP cut short
+        rescue = case == "ipopt rescues"
+        kw = dict(M=10, input_bounds=(-1, 1), max_failures=None, solver="nlp" if rescue else "sqp",
+                  solver_options={"sqpmethod.max_iter": 2 if rescue else 3})
+        x0, w = np.array([2.0, 0.0]), (10 if rescue else 30) * w
+    runs = []
+    for general in (False, True):
+        rhc = orrc.PreviewRHC(ex.system, ex.cost, **kw)
+        if general:
+            rhc.control = rhc.control   # replaced on the object: every step through control()
+        assert (rhc.fast_nlp() is None) == general
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", orrc.SolverWarning)
+            runs.append(orrc.simulate(ex.system, rhc, x0, w, 40))
+    _same_runs(*runs)
+    fast = runs[0]
+    if case == "accepted":
+        assert fast.n_failures == 0 and fast.solver_counts == {"sqp": 40}
+    elif case == "ipopt rescues":
+        assert fast.n_failures == 0 and 0 < fast.solver_counts.get("ipopt", 0) < 40, fast.solver_counts
+    else:
+        assert 0 < fast.n_failures < 40, fast.n_failures

@@ -340,18 +340,25 @@ class ShootingNLP(DropsBuffers):
         else:
             check = self._call("acceptance-copy")
             check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1))
-        complementarity, J_guess, rollout_ok, lam_g_1, g_inf = check.res[0].tolist()
-        extra["complementarity"], extra["guess_cost"] = complementarity, J_guess
-        if not complementarity <= ACCEPT_RTOL * abs(value) + ACCEPT_ATOL:
-            return (f"bound multipliers not complementary (Σ λ·gap = {complementarity:.3g} > "
-                    f"{ACCEPT_RTOL:g}·|J| with J = {value:.6g})")
-        if not rollout_ok == 1.0:
-            return None  # the guess's rollout overflows or leaves the state bounds: no feasible comparison point
-        slack = ACCEPT_RTOL * abs(J_guess) + lam_g_1 * g_inf
-        if value > J_guess + slack + ACCEPT_ATOL:
-            return (f"objective {value:.8g} above the cost {J_guess:.8g} of the initial guess's inputs "
-                    "(a feasible point): SQP stopped at a worse stationary point")
-        return None
+        quantities = check.res[0].tolist()
+        extra["complementarity"], extra["guess_cost"] = quantities[0], quantities[1]
+        return rejection(quantities, value)
+
+
+def rejection(quantities, value: float) -> str | None:
+    """Why a converged SQP answer of objective ``value`` is not accepted, or None: the checks of the module
+    docstring on ``quantities``, the outputs of :func:`_acceptance_function` (as a list)."""
+    complementarity, J_guess, rollout_ok, lam_g_1, g_inf = quantities
+    if not complementarity <= ACCEPT_RTOL * abs(value) + ACCEPT_ATOL:
+        return (f"bound multipliers not complementary (Σ λ·gap = {complementarity:.3g} > "
+                f"{ACCEPT_RTOL:g}·|J| with J = {value:.6g})")
+    if not rollout_ok == 1.0:
+        return None  # the guess's rollout overflows or leaves the state bounds: no feasible comparison point
+    slack = ACCEPT_RTOL * abs(J_guess) + lam_g_1 * g_inf
+    if value > J_guess + slack + ACCEPT_ATOL:
+        return (f"objective {value:.8g} above the cost {J_guess:.8g} of the initial guess's inputs "
+                "(a feasible point): SQP stopped at a worse stationary point")
+    return None
 
 
 def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bool) -> ca.Function:
