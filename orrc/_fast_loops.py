@@ -90,6 +90,8 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     T, M, X, X_read, U, wpad = rec.T, rec.Mw, rec.X, rec.X_read, rec.U, rec.wpad
     warm, ladder = controller.fast_nlp(), controller.failures
     m, z = U.shape[1], warm.z
+    n = X.shape[1]
+    wflat = wpad.reshape(-1)   # the preview of step t: its rows t..t+M-1, vec(w_t..w_{t+M-1})
     per_step_cost = not rec.quadratic
     f = None  # the plant on its own buffers when it is a NonlinearSystem's own step (as its _step evaluates)
     if step is not None and getattr(step, "__func__", None) is NonlinearSystem._step:
@@ -100,7 +102,7 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     status, solver, V, has_value, iters, times = rec.status, rec.solver, rec.V, rec.has_value, rec.iters, rec.times
     for t in range(T):
         xt = X_read[t]
-        out = warm.step(xt, wpad[t:t + M]) if synced else None
+        out = warm.step(xt, wflat[t * n:(t + M) * n]) if synced else None
         if out is None:   # the controller's own step (its failure ladder), from the last accepted plan
             if kept is not None:
                 ladder.succeeded(kept[0], warm.plan(X_read[kept[0]], kept[1]))

@@ -32,7 +32,9 @@ class WarmSQP:
         self._evaluate, self._buffer = call._evaluate, call.buffer
         self.z0, self.p, self.z, self.f = call.args[0], call.args[1], call.res[0], call.res[1]
         self.nu, self.nw = M * m, n + M * n
-        self._fixed = np.concatenate([np.asarray(P, float).reshape(-1), [] if theta is None else np.asarray(theta, float)])
+        # the cost's parameters and θ: the same at every step (every solve of this problem writes these values)
+        self.p[self.nw:] = np.concatenate([np.asarray(P, float).reshape(-1), [] if theta is None else
+                                           np.asarray(theta, float)])
         self.good = np.empty_like(self.z)   # the last accepted answer, z = [vec U; x̃_1..x̃_M]
 
     def set_guess(self, inputs, states) -> None:
@@ -40,13 +42,12 @@ class WarmSQP:
         state), as :meth:`ShootingNLP.solve` writes them."""
         self.z0[: self.nu], self.z0[self.nu:] = inputs.reshape(-1), states[1:].reshape(-1)
 
-    def step(self, x, W):
-        """Solve from state x with preview W (M, n) from the guess in the buffer: (V_M, status, iterations,
+    def step(self, x, w):
+        """Solve from state x with preview w = vec(w_t..w_{t+M-1}) (M n,) from the guess in the buffer: (V_M, status, iterations,
         seconds) of an accepted answer, whose first input is ``z[:m]`` and which becomes the next guess shifted
         by one step; None when the answer is not accepted (the buffer's guess is then unchanged)."""
-        p, nw = self.p, self.nw
-        p[: self.n], p[self.n:nw] = x, W.reshape(-1)
-        p[nw:] = self._fixed
+        p = self.p
+        p[: self.n], p[self.n:self.nw] = x, w
         t0 = time.perf_counter()
         try:
             self._evaluate()
@@ -56,13 +57,12 @@ class WarmSQP:
         if self._buffer.ret():
             return None
         stats = self._buffer.stats()
-        if not stats.get("success", False):
+        if not stats["success"]:
             return None
         z, value = self.z, float(self.f[0])
-        if not (math.isfinite(value) and math.isfinite(z.sum())):
-            return None
         self.check.evaluate()
-        if rejection(self.check.res[0].tolist(), value) is not None:
+        quantities = self.check.res[0].tolist()   # (the last: z is finite)
+        if not (math.isfinite(value) and quantities[5] == 1.0) or rejection(quantities, value) is not None:
             return None
         # accepted: kept for the failure ladder, and shifted by one step into the next guess
         nu, m, n, z0 = self.nu, self.m, self.n, self.z0
