@@ -205,3 +205,21 @@ def test_the_warm_sqp_loop_is_the_controllers_own_closed_loop(case):
         assert fast.n_failures == 0 and 0 < fast.solver_counts.get("ipopt", 0) < 40, fast.solver_counts
     else:
         assert 0 < fast.n_failures < 40, fast.n_failures
+
+
+def test_a_controller_that_stops_inside_the_warm_sqp_loop_hands_back_the_same_run():
+    """A step that fails inside the warm SQP loop goes to the failure ladder; with max_failures=1 the
+    controller stops there, and the run handed back with the SolverError is the one control() makes."""
+    ex = orrc.examples.inverted_pendulum()
+    w = 30 * orrc.disturbances.uniform_ball(80, 2, radius=0.02, seed=0)
+    stopped = []
+    for general in (False, True):
+        rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=(-1, 1), max_failures=1, solver="sqp",
+                              solver_options={"sqpmethod.max_iter": 3})
+        if general:
+            rhc.control = rhc.control
+        with pytest.raises(orrc.SolverError) as err:
+            orrc.simulate(ex.system, rhc, np.array([3.0, 0.0]), w, 40)
+        stopped.append(err.value)
+    assert stopped[0].step == stopped[1].step > 1, "the controller stops at the same step, after warm steps"
+    _same_runs(stopped[0].trajectory, stopped[1].trajectory)

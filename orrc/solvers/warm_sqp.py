@@ -69,7 +69,7 @@ class WarmSQP:
         self.good[:] = z
         z0[: nu - m], z0[nu - m:nu] = z[m:nu], z[nu - m:nu]
         z0[nu:-n], z0[-n:] = z[nu + n:], z[-n:]
-        return value, str(stats.get("return_status", "unknown")), int(stats.get("iter_count", 0) or 0), elapsed
+        return value, stats["return_status"], stats["iter_count"], elapsed
 
     def plan(self, x, value: float) -> Plan:
         """The :class:`~orrc.solvers.Plan` of the last accepted answer, solved from state x (what the failure
