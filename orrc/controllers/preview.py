@@ -201,10 +201,9 @@ class PreviewRHC(Controller):
 
     def fast_nlp(self):
         """The warm SQP step (:class:`~orrc.solvers.warm_sqp.WarmSQP`) that :func:`orrc.simulate` runs for
-        the common step of this controller (:mod:`orrc._fast_loops`), with :attr:`failures` for every other
-        step; None where :meth:`control` must take every step: off the NLP path with SQP first, with a
-        preview shorter than M, in a subclass that overrides :meth:`control`, or where ``control`` or the
-        solver's ``solve`` was replaced on the object."""
+        the common step (:mod:`orrc._fast_loops`; :attr:`failures` and :meth:`control` take the others), or
+        None where :meth:`control` takes every step: off the NLP path with SQP first, a preview shorter
+        than M, a subclass's own ``control``, or ``control`` or ``solve`` replaced on the object."""
         nlp = self._nlp
         if (not isinstance(nlp, ShootingNLP) or nlp.solvers[0] != SQP or self.preview_w != self.M
                 or type(self).control is not PreviewRHC.control or "control" in self.__dict__
@@ -214,8 +213,7 @@ class PreviewRHC(Controller):
 
     @property
     def failures(self) -> FailureLadder:
-        """The failure ladder of this controller (:mod:`orrc.controllers.failures`): the last successful plan
-        and the streak of failed steps."""
+        """The failure ladder of this controller (:mod:`orrc.controllers.failures`)."""
         return self._ladder
 
     def _fast_lq_input(self, x, w_preview):

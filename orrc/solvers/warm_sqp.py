@@ -43,9 +43,10 @@ class WarmSQP:
         self.z0[: self.nu], self.z0[self.nu:] = inputs.reshape(-1), states[1:].reshape(-1)
 
     def step(self, x, w):
-        """Solve from state x with preview w = vec(w_t..w_{t+M-1}) (M n,) from the guess in the buffer: (V_M, status, iterations,
-        seconds) of an accepted answer, whose first input is ``z[:m]`` and which becomes the next guess shifted
-        by one step; None when the answer is not accepted (the buffer's guess is then unchanged)."""
+        """Solve from state x with preview w = vec(w_t..w_{t+M-1}) (M n,) from the guess in the buffer:
+        (V_M, status, iterations, seconds) of an accepted answer, whose first input is ``z[:m]`` and which
+        becomes the next guess shifted by one step; None when the answer is not accepted (the buffer's
+        guess is then unchanged)."""
         p = self.p
         p[: self.n], p[self.n:self.nw] = x, w
         t0 = time.perf_counter()
