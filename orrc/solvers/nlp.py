@@ -366,7 +366,8 @@ def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bo
     solver's answer, its multipliers, the parameters and the guess's inputs:
     (z, g, λ_x, λ_g, p, vec U_guess) -> [Σ_i λ⁺_i (ub_i − z_i) + λ⁻_i (z_i − lb_i), J_g (the cost of the
     guess's inputs rolled out), 1 if that rollout is finite (and within the state bounds) else 0,
-    ‖λ_g‖₁, ‖g‖_∞, 1 if z is finite else 0]. A multiplier on an absent (infinite) bound makes the first one infinite."""
+    ‖λ_g‖₁, ‖g‖_∞, 1 if z is finite else 0]. A multiplier on an absent (infinite) bound makes the first
+    one infinite."""
     zs, gs, lam_x, lam_g = (ca.SX.sym(name, v.numel()) for name, v in (("z", z), ("g", g), ("lam_x", z),
                                                                        ("lam_g", g)))
     lb, ub = ca.DM(lbz), ca.DM(ubz)
