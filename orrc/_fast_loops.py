@@ -21,11 +21,10 @@ from .trajectory import Record, windows
 def fast_path(controller, rec: Record):
     """The loop that runs ``controller`` (:func:`affine_loop`, :func:`fast_input_loop`, :func:`nlp_loop`), or None for
     the loop of the information pattern: a controller's ``fast_input`` serves a problem whose costs
-    it does not preview (a time-invariant cost, or a controller with preview_c = 0)."""
-    if rec.cparams is not None and rec.Mc:
-        return None
-    if controller.fast_input is None:
-        offer = getattr(controller, "fast_nlp", None)
+    it does not preview (a time-invariant cost, or a controller with preview_c = 0); ``fast_nlp`` serves
+    every problem (the previewed costs c_{t:t+M-1} are parameters of its NLP)."""
+    if controller.fast_input is None or (rec.cparams is not None and rec.Mc):
+        offer = getattr(controller, "fast_nlp", None)   # (a cost preview is a parameter of its NLP)
         return nlp_loop if offer is not None and offer() is not None else None
     return affine_loop if getattr(controller, "fast_affine", None) is not None else fast_input_loop
 
@@ -92,6 +91,10 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     m, z = U.shape[1], warm.z
     n = X.shape[1]
     wflat = wpad.reshape(-1)   # the preview of step t: its rows t..t+M-1, vec(w_t..w_{t+M-1})
+    cp = rec.cparams if rec.Mc else None   # a cost sequence: the parameters of c_t..c_{t+M-1} at step t
+    if cp is not None:
+        k = cp.shape[1]
+        cflat = np.ascontiguousarray(cp).reshape(-1)
     per_step_cost = not rec.quadratic
     f = None  # the plant on its own buffers when it is a NonlinearSystem's own step (as its _step evaluates)
     if step is not None and getattr(step, "__func__", None) is NonlinearSystem._step:
@@ -102,7 +105,12 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     status, solver, V, has_value, iters, times = rec.status, rec.solver, rec.V, rec.has_value, rec.iters, rec.times
     for t in range(T):
         xt = X_read[t]
-        out = warm.step(xt, wflat[t * n:(t + M) * n]) if synced else None
+        if not synced:
+            out = None
+        elif cp is None:
+            out = warm.step(xt, wflat[t * n:(t + M) * n])
+        else:
+            out = warm.step(xt, wflat[t * n:(t + M) * n], cflat[t * k:(t + M) * k])
         if out is None:   # the controller's own step (its failure ladder), from the last accepted plan
             if kept is not None:
                 ladder.succeeded(kept[0], warm.plan(X_read[kept[0]], kept[1]))
@@ -119,7 +127,7 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         U[t] = z[:m]
         u = U[t]
         if per_step_cost:
-            rec.C[t] = rec.stage_cost(xt, u, None)
+            rec.C[t] = rec.stage_cost(xt, u, None if cp is None else cp[t])
         if f is None:
             X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
         else:

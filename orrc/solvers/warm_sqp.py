@@ -22,8 +22,9 @@ from .plan import Plan
 
 
 class WarmSQP:
-    """The warm SQP step of ``nlp`` (a :class:`ShootingNLP` whose first solver is SQP) for a time-invariant
-    cost with parameters ``P`` (M, n_params) and model parameters ``theta`` (or None)."""
+    """The warm SQP step of ``nlp`` (a :class:`ShootingNLP` whose first solver is SQP) with the cost's own
+    parameters ``P`` (M, n_params; a step may give the previewed ones instead) and model parameters
+    ``theta`` (or None)."""
 
     def __init__(self, nlp: ShootingNLP, P, theta=None):
         self.nlp = nlp
@@ -32,7 +33,7 @@ class WarmSQP:
         self._evaluate, self._buffer = call._evaluate, call.buffer
         self.z0, self.p, self.z, self.f = call.args[0], call.args[1], call.res[0], call.res[1]
         self.nu, self.nw = M * m, n + M * n
-        # the cost's parameters and θ: the same at every step (every solve of this problem writes these values)
+        # the cost's parameters and θ: the same at every step of a time-invariant cost (as every solve writes them)
         self.p[self.nw:] = np.concatenate([np.asarray(P, float).reshape(-1), [] if theta is None else
                                            np.asarray(theta, float)])
         self.good = np.empty_like(self.z)   # the last accepted answer, z = [vec U; x̃_1..x̃_M]
@@ -42,13 +43,16 @@ class WarmSQP:
         state), as :meth:`ShootingNLP.solve` writes them."""
         self.z0[: self.nu], self.z0[self.nu:] = inputs.reshape(-1), states[1:].reshape(-1)
 
-    def step(self, x, w):
-        """Solve from state x with preview w = vec(w_t..w_{t+M-1}) (M n,) from the guess in the buffer:
-        (V_M, status, iterations, seconds) of an accepted answer, whose first input is ``z[:m]`` and which
-        becomes the next guess shifted by one step; None when the answer is not accepted (the buffer's
-        guess is then unchanged)."""
+    def step(self, x, w, P=None):
+        """Solve from state x with preview w = vec(w_t..w_{t+M-1}) (M n,) and, for a cost sequence, the
+        parameters P = vec(p_t..p_{t+M-1}) of the previewed costs (else the cost's own), from the guess in
+        the buffer: (V_M, status, iterations, seconds) of an accepted answer, whose first input is
+        ``z[:m]`` and which becomes the next guess shifted by one step; None when the answer is not
+        accepted (the buffer's guess is then unchanged)."""
         p = self.p
         p[: self.n], p[self.n:self.nw] = x, w
+        if P is not None:
+            p[self.nw:self.nw + len(P)] = P
         t0 = time.perf_counter()
         try:
             self._evaluate()
