@@ -4,23 +4,28 @@ records" and "Affine laws").
 
 The rule that chooses them (:func:`fast_path`): a controller that offers ``fast_input`` on a problem
 without a cost preview runs :func:`fast_input_loop`; if it also offers ``fast_affine`` (an affine law
-u_t = −K x_t + f(W_t)), :func:`affine_loop`. Every other run takes the loop of the paper's
-information pattern in :mod:`orrc.simulate`.
+u_t = −K x_t + f(W_t)), :func:`affine_loop`; a controller that offers ``fast_nlp`` (a warm SQP step,
+:class:`~orrc.solvers.warm_sqp.WarmSQP`) on such a problem runs :func:`nlp_loop`. Every other run takes
+the loop of the paper's information pattern in :mod:`orrc.simulate`.
 """
 from __future__ import annotations
 
 import numpy as np
 
+from ._casadi import buffered
 from ._validate import OrrcValueError
+from .systems import NonlinearSystem
 from .trajectory import Record, windows
 
 
 def fast_path(controller, rec: Record):
-    """The loop that runs ``controller`` (:func:`affine_loop`, :func:`fast_input_loop`), or None for
+    """The loop that runs ``controller`` (:func:`affine_loop`, :func:`fast_input_loop`, :func:`nlp_loop`), or None for
     the loop of the information pattern: a controller's ``fast_input`` serves a problem whose costs
-    it does not preview (a time-invariant cost, or a controller with preview_c = 0)."""
+    it does not preview (a time-invariant cost, or a controller with preview_c = 0); ``fast_nlp`` serves
+    every problem (the previewed costs c_{t:t+M-1} are parameters of its NLP)."""
     if controller.fast_input is None or (rec.cparams is not None and rec.Mc):
-        return None
+        offer = getattr(controller, "fast_nlp", None)   # (a cost preview is a parameter of its NLP)
+        return nlp_loop if offer is not None and offer() is not None else None
     return affine_loop if getattr(controller, "fast_affine", None) is not None else fast_input_loop
 
 
@@ -70,6 +75,67 @@ def fast_input_loop(controller, rec: Record, step, A, B) -> None:
                                      f"at t={t} it returned shape {np.shape(u)}") from exc
         U[t] = u
         X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
+
+
+def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
+    """The closed loop of a receding-horizon controller on the NLP path (``controller.fast_nlp()``, a
+    :class:`~orrc.solvers.warm_sqp.WarmSQP`): each step solved by SQP from the previous plan shifted, and
+    accepted by its checks, is recorded in place (u_t, V_M, status, solver, iterations, seconds) with no
+    Observation, Decision or Plan; every other step (the first one, a step the warm solve does not
+    accept, the steps after a failed one) is ``general_step(t)``, the controller's own
+    :meth:`~orrc.Controller.control` in the loop of the information pattern, after its failure ladder
+    (``controller.failures``) is handed the last plan accepted here. The same inputs, values and record
+    as :func:`orrc.simulate`'s loop of the information pattern."""
+    T, M, X, X_read, U, wpad = rec.T, rec.Mw, rec.X, rec.X_read, rec.U, rec.wpad
+    warm, ladder = controller.fast_nlp(), controller.failures
+    m, z = U.shape[1], warm.z
+    n = X.shape[1]
+    wflat = wpad.reshape(-1)   # the preview of step t: its rows t..t+M-1, vec(w_t..w_{t+M-1})
+    cp = rec.cparams if rec.Mc else None   # a cost sequence: the parameters of c_t..c_{t+M-1} at step t
+    if cp is not None:
+        k = cp.shape[1]
+        cflat = np.ascontiguousarray(cp).reshape(-1)
+    per_step_cost = not rec.quadratic
+    f = None  # the plant on its own buffers when it is a NonlinearSystem's own step (as its _step evaluates)
+    if step is not None and getattr(step, "__func__", None) is NonlinearSystem._step:
+        system = step.__self__
+        f = buffered(system, "f", lambda: system.function)
+        fx, fu, fw, fout = f.args[0], f.args[1], f.args[2], f.res[0]
+    synced, kept = False, None   # the guess in the buffer is this step's; the accepted step not yet handed over
+    status, solver, V, has_value, iters, times = rec.status, rec.solver, rec.V, rec.has_value, rec.iters, rec.times
+    for t in range(T):
+        xt = X_read[t]
+        if not synced:
+            out = None
+        elif cp is None:
+            out = warm.step(xt, wflat[t * n:(t + M) * n])
+        else:
+            out = warm.step(xt, wflat[t * n:(t + M) * n], cflat[t * k:(t + M) * k])
+        if out is None:   # the controller's own step (its failure ladder), from the last accepted plan
+            if kept is not None:
+                ladder.succeeded(kept[0], warm.plan(X_read[kept[0]], kept[1]))
+                kept = None
+            general_step(t)
+            shifted = ladder.warm_start(t + 1)
+            synced = shifted is not None and shifted[2] == 1 and rec.ok[t]
+            if synced:
+                warm.set_guess(shifted[0], shifted[1])
+            continue
+        V[t], status[t], iters[t], times[t] = out
+        has_value[t], solver[t] = True, "sqp"
+        kept = (t, out[0])
+        U[t] = z[:m]
+        u = U[t]
+        if per_step_cost:
+            rec.C[t] = rec.stage_cost(xt, u, None if cp is None else cp[t])
+        if f is None:
+            X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
+        else:
+            fx[:], fu[:], fw[:] = xt, u, wpad[t]
+            f._evaluate()
+            X[t + 1] = fout
+    if kept is not None:
+        ladder.succeeded(kept[0], warm.plan(X_read[kept[0]], kept[1]))
 
 
 def record_fast_steps(controller, rec: Record) -> None:

@@ -43,7 +43,7 @@ import warnings
 
 import numpy as np
 
-from ._fast_loops import fast_path, record_fast_steps
+from ._fast_loops import fast_path, nlp_loop, record_fast_steps
 from ._validate import OrrcValueError, as_array, as_int, check_size
 from .controllers.base import Controller, Observation
 from .costs import CostSequence, StageCost
@@ -84,6 +84,9 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
     with np.errstate(over="ignore", invalid="ignore"):  # divergence is checked (and raised) below
         if loop is None:
             information_pattern_loop(controller, rec, step, A, B, start)
+        elif loop is nlp_loop:   # the steps it does not take itself: the controller's own, one at a time
+            nlp_loop(controller, rec, step, A, B,
+                     lambda t: information_pattern_loop(controller, rec, step, A, B, start, (t,)))
         else:
             loop(controller, rec, step, A, B)
             record_fast_steps(controller, rec)
@@ -96,16 +99,17 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
     return traj
 
 
-def information_pattern_loop(controller: Controller, rec: Record, step, A, B, start: float) -> None:
+def information_pattern_loop(controller: Controller, rec: Record, step, A, B, start: float, steps=None) -> None:
     """The closed loop of Eq. (2): at each step t the controller is handed x_t (read-only), w_{t-1},
     the previewed w_{t:t+M_w-1} and c_{t:t+M_c-1}, and nothing else; it returns u_t (with V_M and its
     solver's report, recorded), and the system moves to x_{t+1} = f(x_t, u_t, w_t) (``step``; None:
-    A x_t + B u_t + w_t). A :class:`~orrc.SolverError` propagates with the run so far."""
+    A x_t + B u_t + w_t). A :class:`~orrc.SolverError` propagates with the run so far. ``steps``: the
+    steps to take (default all T, in order)."""
     T, Mw, Mc, wpad, cparams, X_read = rec.T, rec.Mw, rec.Mc, rec.wpad, rec.cparams, rec.X_read
     m = rec.U.shape[1]
     m_shape, empty_w = (m,), wpad[:0]
     per_step_cost = not rec.quadratic
-    for t in range(T):
+    for t in range(T) if steps is None else steps:
         xt = X_read[t]  # a read-only view of x_t (X[t] is not written again)
         obs = Observation(t, xt, wpad[t - 1] if t > 0 else None,
                           wpad[t:t + Mw] if Mw else empty_w,

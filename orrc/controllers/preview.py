@@ -15,6 +15,7 @@ from ..solvers import lq
 from ..solvers.nlp import IPOPT, NLP_SOLVERS, SOLVER_LABELS, SQP, ShootingNLP
 from ..solvers.plan import Plan, SolverWarning
 from ..solvers.qp import L1QP
+from ..solvers.warm_sqp import WarmSQP
 from .base import Controller, Decision, Observation
 from .failures import DEFAULT_MAX_FAILURES, FailureLadder
 
@@ -205,6 +206,23 @@ class PreviewRHC(Controller):
         if self.fast_input is None:
             return None
         return self.law.K, self.law.feedforward
+
+    def fast_nlp(self):
+        """The warm SQP step (:class:`~orrc.solvers.warm_sqp.WarmSQP`) that :func:`orrc.simulate` runs for
+        the common step (:mod:`orrc._fast_loops`; :attr:`failures` and :meth:`control` take the others), or
+        None where :meth:`control` takes every step: off the NLP path with SQP first, a preview shorter
+        than M, a subclass's own ``control``, or ``control`` or ``solve`` replaced on the object."""
+        nlp = self._nlp
+        if (not isinstance(nlp, ShootingNLP) or nlp.solvers[0] != SQP or self.preview_w != self.M
+                or type(self).control is not PreviewRHC.control or "control" in self.__dict__
+                or "solve" in nlp.__dict__):
+            return None
+        return WarmSQP(nlp, self._default_P, self.theta)
+
+    @property
+    def failures(self) -> FailureLadder:
+        """The failure ladder of this controller (:mod:`orrc.controllers.failures`)."""
+        return self._ladder
 
     def _fast_lq_input(self, x, w_preview):
         """u_t of the exact LQ path for a time-invariant cost: what :meth:`control` returns (the

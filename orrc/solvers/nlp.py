@@ -340,18 +340,25 @@ class ShootingNLP(DropsBuffers):
         else:
             check = self._call("acceptance-copy")
             check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1))
-        complementarity, J_guess, rollout_ok, lam_g_1, g_inf = check.res[0].tolist()
-        extra["complementarity"], extra["guess_cost"] = complementarity, J_guess
-        if not complementarity <= ACCEPT_RTOL * abs(value) + ACCEPT_ATOL:
-            return (f"bound multipliers not complementary (Σ λ·gap = {complementarity:.3g} > "
-                    f"{ACCEPT_RTOL:g}·|J| with J = {value:.6g})")
-        if not rollout_ok == 1.0:
-            return None  # the guess's rollout overflows or leaves the state bounds: no feasible comparison point
-        slack = ACCEPT_RTOL * abs(J_guess) + lam_g_1 * g_inf
-        if value > J_guess + slack + ACCEPT_ATOL:
-            return (f"objective {value:.8g} above the cost {J_guess:.8g} of the initial guess's inputs "
-                    "(a feasible point): SQP stopped at a worse stationary point")
-        return None
+        quantities = check.res[0].tolist()
+        extra["complementarity"], extra["guess_cost"] = quantities[0], quantities[1]
+        return rejection(quantities, value)
+
+
+def rejection(quantities, value: float) -> str | None:
+    """Why a converged SQP answer of objective ``value`` is not accepted, or None: the checks of the module
+    docstring on ``quantities``, the outputs of :func:`_acceptance_function` (as a list)."""
+    complementarity, J_guess, rollout_ok, lam_g_1, g_inf = quantities[:5]
+    if not complementarity <= ACCEPT_RTOL * abs(value) + ACCEPT_ATOL:
+        return (f"bound multipliers not complementary (Σ λ·gap = {complementarity:.3g} > "
+                f"{ACCEPT_RTOL:g}·|J| with J = {value:.6g})")
+    if not rollout_ok == 1.0:
+        return None  # the guess's rollout overflows or leaves the state bounds: no feasible comparison point
+    slack = ACCEPT_RTOL * abs(J_guess) + lam_g_1 * g_inf
+    if value > J_guess + slack + ACCEPT_ATOL:
+        return (f"objective {value:.8g} above the cost {J_guess:.8g} of the initial guess's inputs "
+                "(a feasible point): SQP stopped at a worse stationary point")
+    return None
 
 
 def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bool) -> ca.Function:
@@ -359,7 +366,8 @@ def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bo
     solver's answer, its multipliers, the parameters and the guess's inputs:
     (z, g, λ_x, λ_g, p, vec U_guess) -> [Σ_i λ⁺_i (ub_i − z_i) + λ⁻_i (z_i − lb_i), J_g (the cost of the
     guess's inputs rolled out), 1 if that rollout is finite (and within the state bounds) else 0,
-    ‖λ_g‖₁, ‖g‖_∞]. A multiplier on an absent (infinite) bound makes the first one infinite."""
+    ‖λ_g‖₁, ‖g‖_∞, 1 if z is finite else 0]. A multiplier on an absent (infinite) bound makes the first
+    one infinite."""
     zs, gs, lam_x, lam_g = (ca.SX.sym(name, v.numel()) for name, v in (("z", z), ("g", g), ("lam_x", z),
                                                                        ("lam_g", g)))
     lb, ub = ca.DM(lbz), ca.DM(ubz)
@@ -373,5 +381,5 @@ def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bo
         n_u = U.numel()
         finite = ca.logic_and(finite, ca.logic_and(ca.mmin(X_g - lb[n_u:]) >= 0, ca.mmin(ub[n_u:] - X_g) >= 0))
     out = ca.vertcat(complementarity, J_g, ca.if_else(finite, 1, 0), ca.sum1(ca.fabs(lam_g)),
-                     ca.mmax(ca.fabs(gs)) if g.numel() else 0)
+                     ca.mmax(ca.fabs(gs)) if g.numel() else 0, ca.if_else(ca.sum1(zs * 0) == 0, 1, 0))
     return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, Us], [out])
