@@ -15,7 +15,7 @@ from .sweep import SweepError, Table, sweep
 from .solvers.plan import Plan, SolverError, SolverWarning
 from .systems import LinearSystem, NonlinearSystem, System
 from .parametric import LinearParametricSystem, ParametricSystem
-from ._progress import progress
+from ._progress import progress, working
 from . import config, disturbances, examples
 from . import certify, checks, estimation, theory, tradeoff
 
@@ -30,4 +30,5 @@ __all__ = [
     "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "Plan",
     "simulate", "Trajectory", "sweep", "Table", "SweepError",
     "attenuation_regret", "attenuation_ratio", "dynamic_regret", "progress",
+    "working",
 ]

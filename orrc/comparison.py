@@ -15,6 +15,7 @@ import numpy as np
 
 from ._validate import OrrcValueError, as_array, as_bool, as_float, as_int
 from ._problem import check_problem
+from ._progress import progress
 
 __all__ = ["ComparisonRow", "compare", "PreviewValue", "preview_value"]
 
@@ -59,7 +60,8 @@ def compare(system, cost, controllers: dict, w, T: int, gamma: float, x0=None, w
     x0 = np.zeros(system.n) if x0 is None else as_array("x0", x0, (system.n,))
     clair = simulate(system, Clairvoyant(system, cost, T, **(clairvoyant_kwargs or {})), x0, w, T)
     rows = []
-    for label, ctrl in {**controllers, "clairvoyant optimum": None}.items():
+    runs = {**controllers, "clairvoyant optimum": None}
+    for label, ctrl in progress(runs.items(), desc="controllers compared", total=len(runs)):
         tr = clair if ctrl is None else simulate(system, ctrl, x0, w, T)
         wa = wr = None
         if worst_case and ctrl is not None and isinstance(system, LinearSystem):
