@@ -10,7 +10,8 @@ from ..parametric import LinearParametricSystem, ParametricSystem
 from ..solvers.lq import lq_law_size
 from .base import Controller, Decision, Observation
 from .lifted import LiftedRHC
-from .preview import PreviewRHC, _bounds
+from ._preview_setup import _bounds
+from .preview import PreviewRHC
 
 PHASES = ("estimate", "control")
 

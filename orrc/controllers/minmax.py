@@ -14,7 +14,7 @@ from ..solvers.minmax import AUTO_EXACT_LIMIT, MinMaxPlan, VertexEpigraph, check
 from ..solvers.plan import SolverWarning
 from .base import Controller, Decision, Observation
 from .failures import DEFAULT_MAX_FAILURES, FailureLadder
-from .preview import _bounds
+from ._preview_setup import _bounds
 
 METHODS = ("auto", "exact", "exchange", "game")
 

@@ -1,63 +1,30 @@
-"""Algorithm 1: preview receding-horizon control (known system)."""
+"""Algorithm 1: preview receding-horizon control (known system).
+
+The controller: the M-step problem of Eq. (3) solved from each state (exact LQ law, exact QP or
+CasADi with the failure ladder) and its first input applied. Which problem a set of arguments
+defines (input/state bounds, terminal cost) and which solver fits it is decided in
+:mod:`orrc.controllers._preview_setup`.
+"""
 from __future__ import annotations
 
 import functools
 import warnings
 
-import casadi as ca
 import numpy as np
 
-from .._validate import OrrcValueError, _describe, as_array, as_int, check_evaluates
+from .._validate import OrrcValueError, as_array, as_int
 from .._problem import check_problem
-from ..costs import L1Cost, QuadraticCost, StageCost
-from ..systems import LinearSystem, System
+from ..costs import StageCost
+from ..systems import System
 from ..solvers import lq
-from ..solvers.nlp import IPOPT, NLP_SOLVERS, SOLVER_LABELS, SQP, ShootingNLP
+from ..solvers.nlp import SOLVER_LABELS, SQP, ShootingNLP
 from ..solvers.plan import Plan, SolverWarning
 from ..solvers.qp import L1QP
 from ..solvers.warm_sqp import WarmSQP
 from .base import Controller, Decision, Observation
+# SOLVER_CHOICES stays importable from this module (the values of PreviewRHC(solver=...))
+from ._preview_setup import _NLP_LADDERS, SOLVER_CHOICES, _bounds, _check_solver, _pick_solver, _terminal
 from .failures import DEFAULT_MAX_FAILURES, FailureLadder
-
-
-#: the values of ``PreviewRHC(solver=...)``
-SOLVER_CHOICES = ("auto", "lq", "qp", "nlp", "sqp", "ipopt")
-#: the CasADi solvers each NLP choice tries, in order (the rungs of the failure ladder)
-_NLP_LADDERS = {"nlp": NLP_SOLVERS, "sqp": (SQP,), "ipopt": (IPOPT,)}
-
-
-def _bounds(name, bounds, dim):
-    """(lo, hi) arrays of length dim from a pair of scalars or length-dim arrays (±inf allowed)."""
-    if bounds is None:
-        return None
-    if not isinstance(bounds, (tuple, list)) or len(bounds) != 2:
-        raise OrrcValueError(f"{name} must be a pair (lo, hi) of scalars or length-{dim} arrays; got "
-                             f"{_describe(bounds)}")
-    out = []
-    for i, b in enumerate(bounds):
-        b = as_array(f"{name}[{i}]", b, allow_nonfinite=True)
-        if b.ndim > 1 or (b.ndim == 1 and b.shape[0] not in (1, dim)):
-            raise OrrcValueError(f"{name}[{i}] must be a scalar or a length-{dim} array; got shape {b.shape}")
-        out.append(np.broadcast_to(b.reshape(-1) if b.ndim else b, (dim,)).astype(float))
-    lo, hi = out
-    if np.any(np.isnan(lo)) or np.any(np.isnan(hi)) or np.any(lo > hi):
-        raise OrrcValueError(f"{name} needs lo <= hi (no NaN) in every coordinate; got lo={lo}, hi={hi}")
-    return lo, hi
-
-
-def _terminal_callable(fn, n: int):
-    """A terminal cost callable checked: it must trace to a finite scalar CasADi expression of x."""
-    xs = ca.SX.sym("x", n)
-    try:
-        out = ca.SX(fn(xs))
-    except Exception as exc:
-        raise OrrcValueError("terminal_cost must be written with CasADi operations on x (ca.sumsqr(x), ...); "
-                             f"tracing it failed with: {exc}") from exc
-    if out.shape != (1, 1):
-        raise OrrcValueError(f"terminal_cost(x) must return a scalar; got shape {out.shape}")
-    f = ca.Function("terminal", [xs], [out])
-    check_evaluates("terminal_cost", "terminal_cost(x)", lambda x, u: f(x), n, 1)
-    return fn
 
 
 class PreviewRHC(Controller):
@@ -135,37 +102,14 @@ class PreviewRHC(Controller):
             self.name = f"preview RHC, k = {self.preview_w}"
         self.input_bounds = _bounds("input_bounds", input_bounds, system.m)
         self.state_bounds = _bounds("state_bounds", state_bounds, system.n)
-        if not isinstance(solver, str) or solver not in SOLVER_CHOICES:
-            raise OrrcValueError(f"solver must be one of {', '.join(map(repr, SOLVER_CHOICES))}; got {solver!r}")
+        _check_solver(solver)
         if solver_options is not None and not isinstance(solver_options, dict):
             raise OrrcValueError(f"solver_options must be a dict; got {type(solver_options).__name__}")
         self._ladder = FailureLadder(self.M, max_failures, name=f"PreviewRHC(M={self.M})")
         # the parameters of c_t..c_{t+M-1} for a time-invariant cost (read-only, made once)
         self._default_P = np.broadcast_to(cost.default_params, (self.M, cost.n_params))
-        Pf, term_fn = None, None
-        if terminal_cost is not None:
-            if callable(terminal_cost):
-                term_fn = _terminal_callable(terminal_cost, system.n)
-            else:
-                from .._validate import as_square, check_psd
-                Pf = as_square("terminal_cost", terminal_cost, system.n)
-                check_psd("terminal_cost", Pf)
-                term_fn = lambda x, Pf=Pf: (x.T @ Pf @ x)  # noqa: E731
-        lq_ok = (isinstance(system, LinearSystem) and isinstance(cost, QuadraticCost)
-                 and self.input_bounds is None and self.state_bounds is None
-                 and (terminal_cost is None or Pf is not None))
-        if solver == "lq" and not lq_ok:
-            raise OrrcValueError(
-                "solver='lq' needs a LinearSystem, a QuadraticCost, no input/state bounds and a "
-                "quadratic (matrix) terminal cost or none; use solver='nlp' or 'auto'")
-        self.solver = ("lq" if lq_ok else "nlp") if solver == "auto" else solver
-        # an ℓ1 state cost on a linear system: one exact QP per step (orrc.solvers.qp)
-        qp_ok = (isinstance(system, LinearSystem) and isinstance(cost, L1Cost) and self.state_bounds is None
-                 and terminal_cost is None)
-        if solver == "qp" and not qp_ok:
-            raise OrrcValueError("solver='qp' needs a LinearSystem, an L1Cost, no state bounds and no terminal cost")
-        if solver == "auto" and qp_ok:
-            self.solver = "qp"
+        Pf, term_fn = _terminal(terminal_cost, system.n)
+        self.solver = _pick_solver(solver, system, cost, self.input_bounds, self.state_bounds, terminal_cost, Pf)
         self.theta = None
         if getattr(system, "n_params", 0):  # a ParametricSystem: θ is a parameter of the NLP
             if theta is None:
