@@ -5,7 +5,7 @@ plan (:class:`~orrc.MinMaxRHC`, vertex method), its increment's worst vertex of 
 of a grid (refined locally at the worst one), and the ratio r of :mod:`orrc.certify.lemma6` over
 the tight and the certified pairs (ᾱ_W, γ̄_W). The search over random problems is
 :mod:`orrc.certify.lemma6`; the independent recheck of a worst point
-:mod:`orrc.certify._lemma6_recheck`.
+``orrc.certify._lemma6_recheck``.
 """
 from __future__ import annotations
 

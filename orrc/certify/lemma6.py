@@ -35,7 +35,7 @@ independent solver). :func:`lemma6_case` treats one problem; :func:`lemma6_searc
 backends; a progress bar in a live session).
 
 This module holds the search over problems; the single case is computed in
-:mod:`orrc.certify._lemma6_case` and rechecked in :mod:`orrc.certify._lemma6_recheck` (all three
+``orrc.certify._lemma6_case`` and rechecked in ``orrc.certify._lemma6_recheck`` (all three
 public names are importable from here and from :mod:`orrc.certify`).
 """
 from __future__ import annotations

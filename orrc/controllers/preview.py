@@ -3,7 +3,7 @@
 The controller: the M-step problem of Eq. (3) solved from each state (exact LQ law, exact QP or
 CasADi with the failure ladder) and its first input applied. Which problem a set of arguments
 defines (input/state bounds, terminal cost) and which solver fits it is decided in
-:mod:`orrc.controllers._preview_setup`.
+``orrc.controllers._preview_setup``.
 """
 from __future__ import annotations
 
