@@ -33,6 +33,29 @@ def tree_fingerprint(folder: Path):
                   for p in folder.rglob("*") if p.is_file())
 
 
+_BOOK = {}
+
+
+def _start_book():
+    """Start the session's one book build in a thread of its own (the build is a jupyter-book
+    subprocess): the tests that do not need the book run beside it (they are ordered first,
+    pytest_collection_modifyitems), so the second core is not idle while the chapters execute."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from tools.build_book import build
+
+    def run():
+        published = tree_fingerprint(PUBLISHED_HTML)
+        started, t0 = time.time(), time.perf_counter()
+        # build() sets ORRC_BOOK_BUILD=1 for the chapters (static frames, no progress bars in the outputs)
+        rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")})
+        return {"rc": rc, "seconds": time.perf_counter() - t0, "started": started, "published": published}
+
+    pool = ThreadPoolExecutor(max_workers=1)
+    _BOOK["future"] = pool.submit(run)
+    pool.shutdown(wait=False)
+
+
 @pytest.fixture(scope="session")
 def book():
     """Build the whole book once per session (every chapter executed, ORRC_QUICK=1 sizes)
@@ -42,15 +65,11 @@ def book():
     this build's outputs from older ones) and the fingerprint of the published
     ``_build/html`` taken before the build (tests/test_book.py checks that the session
     leaves it untouched). Used by tests/test_book.py (the HTML) and tests/test_chapters.py
-    (the executed notebooks).
+    (the executed notebooks). The build starts when the tests are collected (:func:`_start_book`).
     """
-    from tools.build_book import build
-
-    published = tree_fingerprint(PUBLISHED_HTML)
-    started, t0 = time.time(), time.perf_counter()
-    # build() sets ORRC_BOOK_BUILD=1 for the chapters (static frames, no progress bars in the outputs)
-    rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")})
-    return {"rc": rc, "seconds": time.perf_counter() - t0, "started": started, "published": published}
+    if "future" not in _BOOK:
+        _start_book()
+    return _BOOK["future"].result()
 
 
 def assert_legible(fig, min_pt: float = 9.0, max_width: float = 7.4):
@@ -198,9 +217,18 @@ def _start_grading():
 
 
 def pytest_collection_modifyitems(session, config, items):
-    graded = [it for it in items if "graded" in getattr(it, "fixturenames", ())]
+    """Order: the tests that need neither the book nor the gradings first (they run while the book
+    builds and the assignments are graded in the background), then those that read the book, then
+    those that read the gradings."""
+    def needs(item, name):
+        return name in getattr(item, "fixturenames", ())
+
+    graded = [it for it in items if needs(it, "graded")]
+    on_book = [it for it in items if needs(it, "book") and it not in graded]
+    items[:] = [it for it in items if it not in graded and it not in on_book] + on_book + graded
+    if on_book or graded:
+        _start_book()
     if graded:
-        items[:] = [it for it in items if it not in graded] + graded
         _start_grading()
 
 
