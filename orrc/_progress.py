@@ -22,17 +22,21 @@ from contextlib import contextmanager
 __all__ = ["progress", "watched", "working"]
 
 
+def in_kernel() -> bool:
+    """True inside a Jupyter kernel (an IPython shell with a kernel), where a live widget or a status
+    line can be shown. Asks only an IPython already imported: ``import orrc`` stays light."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    return shell is not None and hasattr(shell, "kernel")
+
+
 def watched() -> bool:
     """A reader is watching: a Jupyter kernel or a terminal, and not the book's build."""
     from . import config
 
     if config.book_build():
         return False
-    ipython = sys.modules.get("IPython")
-    shell = ipython.get_ipython() if ipython is not None else None
-    if shell is not None and hasattr(shell, "kernel"):
-        return True
-    return bool(getattr(sys.stderr, "isatty", lambda: False)())
+    return in_kernel() or bool(getattr(sys.stderr, "isatty", lambda: False)())
 
 
 def progress(iterable, desc: str | None = None, total: int | None = None, delay: float = 2.0):
@@ -65,9 +69,7 @@ def working(message: str, delay: float = 2.0):
     if not isinstance(message, str) or not message:
         raise OrrcValueError(f"message must be a non-empty string (what the call is doing); got {message!r}")
     delay = as_float("delay", delay, minimum=0.0)
-    ipython = sys.modules.get("IPython")
-    shell = ipython.get_ipython() if ipython is not None else None
-    if not watched() or shell is None or not hasattr(shell, "kernel"):
+    if not (watched() and in_kernel()):
         yield
         return
     from IPython.display import display

@@ -7,14 +7,6 @@ figures' HTML form (:func:`orrc.viz.figures.install`).
 """
 from __future__ import annotations
 
+from .._progress import in_kernel   # one kernel check for the package (progress bars, status lines, widgets)
+
 __all__ = ["in_kernel"]
-
-
-def in_kernel() -> bool:
-    """True inside a Jupyter kernel (an IPython shell with a kernel), where a live widget can be shown."""
-    try:
-        from IPython import get_ipython
-    except ImportError:  # pragma: no cover - IPython comes with the book's dependencies
-        return False
-    ip = get_ipython()
-    return ip is not None and hasattr(ip, "kernel")
