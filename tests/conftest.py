@@ -295,3 +295,19 @@ def run_coroutine(coro):
     if "error" in result:
         raise result["error"]
     return result.get("value")
+
+
+def pytest_unconfigure(config):
+    """Close the widgets the tests made (explorers outside a kernel) while the interpreter still runs.
+    ipywidgets keeps every open widget until it is closed; left to the interpreter's exit, each one's
+    ``__del__`` runs after the modules it needs are gone and prints an ignored exception. A widget
+    opened before ipykernel was imported (``tools.lab_contents`` imports it) is registered with the
+    comm manager that ipykernel's import replaced; it has nothing left to close then."""
+    widgets = sys.modules.get("ipywidgets.widgets.widget")
+    if widgets is None:
+        return
+    for widget in list(widgets._instances.values()):
+        try:
+            widget.close()
+        except KeyError:
+            widget.comm = None

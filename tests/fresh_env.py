@@ -145,10 +145,41 @@ def orrc_wheel(root: Path = ROOT) -> Path:
         return sorted(out.glob("orrc-*.whl"))[0]
 
 
+def with_wheels(python: Path, wheels: list[Path], timeout: float = 300) -> Path:
+    """``python``'s environment with ``wheels`` installed on top, without their dependencies, once
+    per content of the wheels; ``pip check`` then confirms that every requirement of every installed
+    distribution (the wheels' included) is met by what the environment already has.
+
+    This keeps an environment keyed by its pinned dependencies only: a change of the project
+    reinstalls its wheel in seconds instead of rebuilding the whole environment. The result is the
+    environment one ``pip install`` of the dependencies and the wheels together gives, since the
+    wheels' requirements are all met by the pinned versions (else ``pip check`` fails)."""
+    target = Path(python).parent.parent
+    h = hashlib.sha256()
+    for wheel in wheels:
+        h.update(Path(wheel).name.encode() + b"\0" + Path(wheel).read_bytes())
+    digest, marker = h.hexdigest()[:16], target / ".orrc-wheels-installed"
+    with _locked(ENVS / f".{target.name}.lock"):
+        if marker.is_file() and marker.read_text(encoding="utf-8") == digest:
+            return python
+        marker.unlink(missing_ok=True)
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+        pip = [str(python), "-m", "pip", "--no-input", "--disable-pip-version-check"]
+        for args in (["install", "--quiet", "--no-deps", "--force-reinstall", *map(str, wheels)], ["check"]):
+            run = subprocess.run(pip + args, env=env, capture_output=True, text=True, timeout=timeout)
+            if run.returncode != 0:
+                raise RuntimeError(f"pip {args[0]} in {target.name} failed (exit {run.returncode}):\n"
+                                   f"{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
+        marker.write_text(digest, encoding="utf-8")
+    return python
+
+
 def autograder_env(zip_path: Path, name: str = "autograder") -> Path:
     """The Python of a fresh environment built from an otter autograder zip alone: the ``pip:``
     list of its ``environment.yml`` (as otter's ``setup.sh`` installs it in the grading image),
-    installed from the zip's unpacked files (its ``files/`` holds the wheels it names)."""
+    installed from the zip's unpacked files (its ``files/`` holds the wheels it names). The
+    environment is keyed by the list's registry requirements; the zip's own wheels (``orrc``) go
+    on top with :func:`with_wheels`, so a change of the package does not rebuild it."""
     import tempfile
     import zipfile
 
@@ -159,4 +190,7 @@ def autograder_env(zip_path: Path, name: str = "autograder") -> Path:
             zf.extractall(tmp)
         env = yaml.safe_load((Path(tmp) / "environment.yml").read_text(encoding="utf-8"))
         pip = next(d["pip"] for d in env["dependencies"] if isinstance(d, dict) and "pip" in d)
-        return fresh_env(name, pip, base=Path(tmp))
+        wheels = [w for w in _local_files(pip, Path(tmp)) if w.suffix == ".whl"]
+        registry = [line for line in pip if not _local_files([line], Path(tmp))]
+        assert len(registry) + len(wheels) == len(pip), f"unexpected lines in {zip_path.name}'s pip list: {pip}"
+        return with_wheels(fresh_env(name, registry, base=Path(tmp)), wheels)

@@ -16,7 +16,6 @@ import json
 import os
 import re
 import shlex
-import subprocess
 import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -26,7 +25,7 @@ import nbformat
 import pytest
 
 from conftest import BOOK_HTML, ROOT
-from fresh_env import fresh_env, orrc_wheel
+from fresh_env import fresh_env, orrc_wheel, with_wheels
 from tools.toc import notebook_pages
 
 CHAPTERS = notebook_pages()
@@ -57,15 +56,6 @@ def requirement_lines(spec: str) -> list[str]:
         assert extra in project["optional-dependencies"], f"pyproject.toml has no extra {extra!r}"
         lines += project["optional-dependencies"][extra]
     return lines
-
-
-def install_project(python: Path) -> None:
-    """The project's wheel into the environment, without dependencies (they are there): the
-    environment is keyed by the dependencies only, so a change of the package reinstalls orrc in
-    seconds instead of rebuilding everything."""
-    subprocess.run([str(python), "-m", "pip", "install", "--no-input", "--disable-pip-version-check", "--quiet",
-                    "--no-deps", "--force-reinstall", str(orrc_wheel())], check=True, capture_output=True,
-                   text=True, timeout=300)
 
 
 def run_download(chapter: str, python: Path, timeout: float = 600) -> dict:
@@ -108,8 +98,8 @@ def downloads_run(book):
     assert book["rc"] == 0, "the book's build failed; its downloads are not there"
     first = nbformat.read(download(CHAPTERS[0]), as_version=4).cells[0].source
     t0 = time.perf_counter()
-    python = fresh_env("download", requirement_lines(install_spec(first)))
-    install_project(python)
+    # keyed by the dependencies only; the project's wheel goes on top (a package change reinstalls it)
+    python = with_wheels(fresh_env("download", requirement_lines(install_spec(first))), [orrc_wheel()])
     env_seconds = time.perf_counter() - t0
     with ThreadPoolExecutor(max_workers=2) as pool:
         results = dict(zip(CHAPTERS, pool.map(lambda c: run_download(c, python), CHAPTERS)))
