@@ -47,7 +47,7 @@ $(AXE): tools/axe/package.json tools/axe/package-lock.json
 # the whole suite; it builds its own, shortened, book into _build/test (never _build/html); with
 # make lab's JupyterLab, which tests/test_live_notebooks.py drives in Chromium, and axe-core
 test: $(STAMP) $(LAB_STAMP) $(AXE)
-	set -eo pipefail; ORRC_QUICK=1 $(PY) -m pytest -q tests
+	set -eo pipefail; ORRC_QUICK=1 $(PY) -m pytest -q --durations=15 tests
 
 # JupyterLab (pinned, requirements-lab.txt) in the same .venv, chapters open as notebooks
 $(LAB_STAMP): $(STAMP) requirements-lab.txt tools/jupyterlab-overrides.json
