@@ -1,4 +1,4 @@
-"""Comparisons of controllers on one problem (the comparison chapter and ``benchmarks/comparison.py``).
+"""Comparisons of controllers on one problem (the computations of the comparison chapter).
 
 * :func:`compare` -- every controller on the same disturbance: total cost, attenuation ratio,
   R^p_T(γ), dynamic regret against :class:`~orrc.Clairvoyant`, and for linear loops the exact

@@ -1,10 +1,10 @@
 """Run-size switch and computation limits.
 
-* ``ORRC_QUICK=1`` in the environment shrinks long runs (:func:`quick`, :func:`size`). The test
-  suite sets it when it executes the chapters, so the same chapter source runs at full size in
-  the book and at reduced size under test (never a copy).
-* ``ORRC_BOOK_BUILD=1``, set by the book's build (``tools/build_book.py``), says that a chapter is
-  executed for the HTML book, not in a live notebook (:func:`book_build`).
+* ``ORRC_QUICK=1`` in the environment shrinks long runs (:func:`quick`, :func:`size`): the same
+  chapter source runs at full size in the book and at a reduced size for a quick check of every
+  chapter (``make test`` sets it), never a copy.
+* ``ORRC_BOOK_BUILD=1``, set when the HTML book is built, says that a chapter is executed for the
+  HTML book, not in a live notebook (:func:`book_build`).
 * Limits on the size of one computation (:class:`Limits`): before a computation whose memory or
   time grows fast (the exact LQ law at a long horizon, the vertices of a box in many
   dimensions, a worst-case attenuation over a long T, ...) ``orrc`` estimates it and refuses
@@ -38,7 +38,7 @@ def size(full: int, quick_size: int) -> int:
 
 def book_build() -> bool:
     """True when the book's build executes this code: the environment variable ORRC_BOOK_BUILD is
-    1/true/yes. ``tools/build_book.py`` sets it for every build (the published book, the test build,
+    1/true/yes. Every build of the book sets it (the full book, the quick build of ``make test``,
     the solution-free edition); a live notebook does not have it. :func:`orrc.viz.explore` renders
     its static frames only in a build (or outside a kernel, where there is no live widget), and
     progress bars (:func:`orrc.progress`) stay silent in a build."""

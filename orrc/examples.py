@@ -1,4 +1,4 @@
-"""Named example problems used by the book, the tests and the benchmarks.
+"""Named example problems: those of the book's chapters, ready to use.
 
 Each function returns an :class:`Example` bundling a system, a stage cost, an
 initial state, input bounds (or None) and a suggested horizon M. All disturbances

@@ -28,7 +28,7 @@ its place in the grid, never by which worker runs it: an integer derived from
 given. ``fn`` runs with one BLAS thread in every backend (the parallelism is across runs; a BLAS
 kernel's summation order may depend on its thread count), with this process's ``orrc.config``
 limits and ``ORRC_*`` environment, and results come back through pickle, which is exact: the
-serial, process and Dask tables are bit-identical (``tests/test_sweep.py``).
+serial, process and Dask tables are bit-identical.
 
 Warnings that ``fn`` raises in a worker are raised again here, in grid order. An exception in
 ``fn`` stops the sweep with a :class:`SweepError` naming the grid point and seed that raised (the
@@ -211,8 +211,7 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
     backend : "auto" (processes when they pay, see the module docstring), "processes" (local worker
         processes), "serial" (this process) or "dask" (``client``, or the current ``dask.distributed``
         client). Passing ``client`` selects "dask". Default: the environment variable ``ORRC_SWEEP_BACKEND``
-        if set (the tests run the book's chapters with it on processes, to check that they glue the same
-        numbers), else "auto". The backend never changes the results.
+        if set (e.g. to run a whole chapter's sweeps on processes), else "auto". The backend never changes the results.
     workers : worker processes (default: the cores available); ``chunksize``: runs per task (default
         about a quarter of the runs per worker, so that tasks balance).
     progress : show a progress bar (None: in an interactive session only, never in the book's build).

@@ -50,7 +50,10 @@ NOTEBOOKS = notebook_pages(ROOT)
 
 
 def page_id(page: str) -> str:
-    return Path(page).name
+    """A page's name for its screenshots and reports: ``book/lemma1`` -> ``lemma1``, an API page
+    ``book/api/comparison`` -> ``api-comparison`` (the comparison chapter keeps ``comparison``)."""
+    parts = Path(page).parts
+    return "-".join(parts[1:] if parts[0] == "book" else parts)
 
 
 class _Assets(html.parser.HTMLParser):

@@ -27,7 +27,7 @@ def two_panels() -> Figure:
 def test_the_description_says_what_each_panel_plots():
     text = describe(two_panels())
     assert text.startswith("Cost and regret. 2 panels.")
-    assert "Panel 1, Cost: cost against horizon M (y on a log scale); series: γ_c bound, preview RHC." in text
+    assert "Panel 1, Cost: cost against horizon M (y on a log scale); series: γ̄_c bound, preview RHC." in text
     assert "Panel 2, regret." in text
     assert "$" not in text and "\\" not in text
 
@@ -35,6 +35,9 @@ def test_the_description_says_what_each_panel_plots():
 def test_mathtext_reads_as_plain_text():
     assert plain(r"$\alpha_{hi}\,\sigma(x)$ and $\Vert w \Vert^2$") == "α_hi σ(x) and ‖ w ‖^2"
     assert plain("two\nlines") == "two lines"
+    # an accent stays on its letter (ᾱ is not α), a style command leaves its text, \varphi is φ
+    assert plain(r"$\overline{\alpha}_{\mathcal W}$, $\bar\gamma$, $\underline{\alpha}$") == "\u03b1\u0304_W, \u03b3\u0304, \u03b1\u0332"
+    assert plain(r"$\hat\theta - \theta$ and $c_s^{\rm known}$, $\varphi_t$") == "\u03b8\u0302 - \u03b8 and c_s^known, \u03c6_t"
 
 
 def test_a_book_figure_is_described_from_its_own_labels():

@@ -50,7 +50,7 @@ def worst_case_regret(system, controller, T: int, cost=None) -> Regret:
     The comparator is the clairvoyant optimum of :class:`orrc.Clairvoyant` (the T-step optimum
     with all of w known, no terminal cost). The regret operator's top singular pair gives the
     value and the worst disturbance; ``orrc.simulate`` of the controller and of
-    ``orrc.Clairvoyant(system, cost, T)`` on ``result.w`` reproduces it (see the tests).
+    ``orrc.Clairvoyant(system, cost, T)`` on ``result.w`` reproduces it.
     Controllers with preview see zeros past T, as in :func:`orrc.certify.worst_case_attenuation`.
     ``cost`` defaults to the controller's own cost.
     """

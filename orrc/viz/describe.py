@@ -25,17 +25,36 @@ _SYMBOLS = {"infty": "∞", "leq": "≤", "le": "≤", "geq": "≥", "ge": "≥"
             "sum": "Σ", "Vert": "‖", "|": "‖", "ell": "ℓ", "approx": "≈", "propto": "∝", "sqrt": "√", "star": "*"}
 
 
+#: accents kept as combining marks on the letter they stand over (ᾱ, γ̄, θ̂, x̃, α̲)
+_ACCENTS = {"bar": "\u0304", "overline": "\u0304", "hat": "\u0302", "widehat": "\u0302", "tilde": "\u0303",
+            "widetilde": "\u0303", "underline": "\u0332", "dot": "\u0307"}
+_ACCENT = re.compile(r"\\(%s)\s*(?:\{([^{}]*)\}|(\\[A-Za-z]+|\S))" % "|".join(sorted(_ACCENTS, key=len, reverse=True)))
+_STYLE = re.compile(r"\\(?:mathrm|mathit|mathbf|mathcal|mathsf|mathnormal|boldsymbol|text|textrm|operatorname"
+                    r"|rm|it|bf|cal|sf)(?![A-Za-z])\s*")
+
+
+def _command(name: str) -> str:
+    plain_name = name[3:] if name.startswith("var") and name[3:] in _GREEK else name   # \varphi -> φ
+    return _GREEK.get(plain_name, _SYMBOLS.get(name, name))
+
+
 def plain(text: str) -> str:
-    """``text`` with its mathtext spans read as plain text: ``$\\bar\\gamma_{c}$`` -> ``γ_c``,
-    ``$\\mathrm{ratio}$`` -> ``ratio``; line breaks become spaces."""
-    def math(m):
-        s = m.group(1)
-        s = re.sub(r"\\(?:mathrm|mathit|mathbf|mathcal|text|operatorname|bar|hat|tilde|overline)\s*", "", s)
-        s = re.sub(r"\\([A-Za-z]+|\|)", lambda g: _GREEK.get(g.group(1), _SYMBOLS.get(g.group(1), g.group(1))), s)
-        s = re.sub(r"[{}]", "", s).replace("\\,", " ").replace("\\;", " ").replace("\\", "")
+    """``text`` with its mathtext spans read as plain text: ``$\\bar\\gamma_{c}$`` -> ``γ̄_c`` (an accent is
+    kept as a combining mark on its letter), ``$c_s^{\\rm known}$`` -> ``c_s^known``, ``$\\varphi_t$`` ->
+    ``φ_t``; line breaks become spaces."""
+    def accent(m):
+        body = math(m.group(2) if m.group(2) is not None else m.group(3), top=False)
+        return body + _ACCENTS[m.group(1)] if body else body
+
+    def math(s, top=True):
+        s = _ACCENT.sub(accent, s)
+        s = _STYLE.sub("", s)
+        s = re.sub(r"\\([A-Za-z]+|\|)", lambda g: _command(g.group(1)), s)
+        if top:
+            s = re.sub(r"[{}]", "", s).replace("\\,", " ").replace("\\;", " ").replace("\\", "")
         return s
 
-    text = re.sub(r"\$(.+?)\$", math, str(text))
+    text = re.sub(r"\$(.+?)\$", lambda m: math(m.group(1)), str(text))
     return re.sub(r"\s+", " ", text).strip()
 
 
