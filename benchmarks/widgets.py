@@ -65,9 +65,7 @@ def _orrc_bench_inspect(model_id):
                       "stats": None if view is None else dict(view.stats)}))
 
 def _orrc_bench_forget(model_id):
-    view = _orrc_bench_views()[model_id]      # the frames drawn so far forgotten: every move draws its frame
-    view.frames.clear()
-    view._queue = []
+    _orrc_bench_views()[model_id].forget()     # the frames drawn so far forgotten: every move draws its frame
 """
 
 
