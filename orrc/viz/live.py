@@ -1,21 +1,29 @@
 """The live widget of an explorer: sliders over the grid, the figure as an image, frames cached.
 
 A slider move in a live kernel shows the frame of the new grid point. Drawing a frame (the
-chapter's plotting function, then one PNG) takes 0.1 to 1 s; showing a PNG already drawn takes
+chapter's plotting function, then one PNG) takes 0.05 to 0.5 s; showing a PNG already drawn takes
 milliseconds. So :class:`LiveView` keeps every frame it has drawn (one PNG per grid point, keyed
-by the slider positions) and, while the kernel is idle, draws the frames not yet drawn *ahead* of
-the reader: one frame per turn of the kernel's event loop (on the kernel's own thread, so the
-plotting function never runs concurrently with a cell or with itself), nearest first: the
-neighbours of the current view along each slider (the moves a reader makes next), then the rest of
-the grid; after every move the queue is ordered again around the new view. In a kernel the
-neighbours of the first view (one step along each slider: the first move a reader makes) are drawn
-before the explorer's cell returns, for at most :data:`NEIGHBOURS_SECONDS`, so that a move made right
-after a chapter ran finds its frame. A move to a frame not yet drawn draws it on the spot.
+by the slider positions) and draws the frames not yet drawn *ahead* of the reader, nearest first:
+the neighbours of the current view along each slider (the moves a reader makes next), then the
+rest of the grid; after every move what is left is ordered again around the new view.
+
+* **In a worker process** (:mod:`orrc.viz.ahead`, where the platform can fork): a child forked from
+  the kernel when the explorer is made draws them beside the kernel, at a lower CPU priority, and
+  sends each PNG back; the kernel's thread stays free, so a move never waits behind a frame drawn
+  ahead.
+* **Else on the kernel's own thread**: one frame per turn of the kernel's event loop while it is
+  idle (the plotting function never runs concurrently with a cell or with itself); a move that
+  arrives meanwhile waits for that frame.
+
+In a kernel the neighbours of the first view (one step along each slider: the first move a reader
+makes) are drawn before the explorer's cell returns, for at most :data:`NEIGHBOURS_SECONDS`, so that
+a move made right after a chapter ran finds its frame (the worker draws the others meanwhile). A
+move to a frame not yet drawn draws it on the spot.
 
 The figure is an ``ipywidgets.Image`` whose value is replaced in place (no flicker, no clearing
 of an output area); errors of the plotting function appear in an ``Output`` below it. Each PNG is
-:func:`orrc.viz.figures.render_live`: the wide rendering of the book's frames (same size, fonts
-and layout), in full colour with light compression.
+:func:`orrc.viz.figures.render_live`: the wide rendering of the book's frames (same size, fonts,
+layout and pixels), in full colour with light compression, drawn once.
 """
 from __future__ import annotations
 
