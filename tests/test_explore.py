@@ -241,16 +241,21 @@ def _in_a_loop(make_view, until=lambda view: view.pending == 0):
     out = {}
 
     async def main():
-        view = make_view()
-        for _ in range(1000):
-            await asyncio.sleep(0.01)
-            if until(view):
-                break
-        out["view"] = view
+        try:
+            view = make_view()
+            for _ in range(1000):
+                await asyncio.sleep(0.01)
+                if until(view):
+                    break
+            out["view"] = view
+        except BaseException as e:  # noqa: BLE001 - raised again in the test's thread
+            out["error"] = e
 
     thread = threading.Thread(target=lambda: asyncio.run(main()))
     thread.start()
-    thread.join(timeout=60)
+    thread.join(timeout=120)
+    if "error" in out:
+        raise out["error"]
     return out["view"]
 
 
@@ -311,6 +316,35 @@ def test_a_worker_process_draws_the_other_frames_the_same():
     for key, png in view.frames.items():
         assert png == view._draw_png(key), key
     assert view.worker is None and pids[0] != os.getpid() and _left(pids[0])
+
+
+def test_the_worker_draws_on_while_the_kernel_runs_a_cell(tmp_path):
+    """A cell that keeps the kernel's loop busy does not hold the worker up: it draws every frame
+    meanwhile (here 100 kB of frames, more than a pipe holds; each drawing is noted in a file), and
+    the kernel takes them all once idle."""
+    import time
+
+    from orrc.viz import LiveView
+
+    log = tmp_path / "drawn.txt"
+
+    def plot(M, gamma):
+        with open(log, "a") as f:
+            f.write(f"{M}\n")
+        return line_plot([], width=6.0)(M, gamma)
+
+    def make():
+        view = LiveView(plot, {"M": list(range(1, 13)), "gamma": [1.0]}, {"M": 1, "gamma": 1.0}, 100,
+                        ahead=True)
+        t0 = time.monotonic()           # the "cell": the loop is busy until the worker has drawn all
+        while len(log.read_text().split()) < 12 and time.monotonic() - t0 < 60:
+            time.sleep(0.05)
+        assert sorted(map(int, log.read_text().split())) == list(range(1, 13))
+        assert view.stats["ahead"] == 1 and len(view.frames) == 2   # nothing read during the "cell"
+        return view
+
+    view = _in_a_loop(make, until=lambda view: view.pending == 0 and view.worker is None)
+    assert len(view.frames) == 12 and view.stats["ahead"] == 11 and view.stats["on_move"] == 0
 
 
 def test_a_plotting_error_in_the_worker_is_shown_on_the_move():

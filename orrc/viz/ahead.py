@@ -15,7 +15,8 @@ on a busy machine). :func:`start` draws them in a child process instead:
 * it runs at a lower CPU priority than the kernel (``os.nice``), so a move drawn on the spot in the
   kernel comes first;
 * it sends each PNG through a pipe that the kernel's event loop reads while it is idle
-  (``loop.add_reader``); a plotting error is sent as a frame that failed (the view draws that grid
+  (``loop.add_reader``; while the kernel runs a cell, the frames wait in the child's memory and
+  the child draws on); a plotting error is sent as a frame that failed (the view draws that grid
   point on the move and shows the error);
 * it prints nothing (its output streams are ``os.devnull``), ignores the kernel's interrupt (meant
   for a cell), and leaves with ``os._exit`` (none of the kernel's clean-up, no message on its
@@ -74,6 +75,16 @@ def _write_all(fd: int, data: bytes) -> None:
         view = view[os.write(fd, view):]
 
 
+def _flush(fd: int, outbox: bytearray) -> None:
+    """Write what the pipe ``fd`` (non-blocking) takes now from the start of ``outbox``."""
+    while outbox:
+        try:
+            n = os.write(fd, outbox)
+        except BlockingIOError:
+            return
+        del outbox[:n]
+
+
 def _child(draw, order, out_fd: int, in_fd: int, parent: int) -> None:
     """The child's work: draw the keys of ``order(view)`` not drawn yet, send each frame."""
     import gc
@@ -85,7 +96,8 @@ def _child(draw, order, out_fd: int, in_fd: int, parent: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     os.nice(NICE)
     os.set_blocking(in_fd, False)
-    todo, inbox = list(order(None)), bytearray()
+    os.set_blocking(out_fd, False)   # frames wait in the outbox while the kernel runs a cell
+    todo, inbox, outbox = list(order(None)), bytearray(), bytearray()
     while todo and os.getppid() == parent:
         if not _read_available(in_fd, inbox):
             return               # the view stopped the worker
@@ -93,13 +105,16 @@ def _child(draw, order, out_fd: int, in_fd: int, parent: int) -> None:
             left = set(todo) - set(drawn)
             todo = [k for k in order(view) if k in left]
         if not todo:
-            return
+            break
         key = todo.pop(0)
         try:
             png = draw(key)
         except Exception:  # noqa: BLE001 - the view draws this grid point on the move and shows the error
             png = None
-        _write_all(out_fd, _pack((key, png)))
+        outbox += _pack((key, png))
+        _flush(out_fd, outbox)
+    os.set_blocking(out_fd, True)
+    _write_all(out_fd, outbox)
 
 
 class Worker:
