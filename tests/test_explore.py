@@ -318,13 +318,15 @@ def test_a_worker_process_draws_the_other_frames_the_same():
     assert view.worker is None and pids[0] != os.getpid() and _left(pids[0])
 
 
-def test_the_worker_draws_on_while_the_kernel_runs_a_cell(tmp_path):
+def test_the_worker_draws_on_while_the_kernel_runs_a_cell(tmp_path, monkeypatch):
     """A cell that keeps the kernel's loop busy does not hold the worker up: it draws every frame
-    meanwhile (here 100 kB of frames, more than a pipe holds; each drawing is noted in a file), and
-    the kernel takes them all once idle."""
+    meanwhile (here 100 kB of frames through a pipe that holds 4 kB; each drawing is noted in a
+    file), and the kernel takes them all once idle."""
     import time
 
-    from orrc.viz import LiveView
+    from orrc.viz import LiveView, ahead
+
+    monkeypatch.setattr(ahead, "PIPE_BYTES", 4096)
 
     log = tmp_path / "drawn.txt"
 

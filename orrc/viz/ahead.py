@@ -169,6 +169,20 @@ class Worker:
             self._loop.call_later(0.2, self._reap)
 
 
+#: the frames' pipe holds this many bytes where the system allows (Linux): a whole explorer's frames
+#: (20 to 50 kB each) are read in one turn of the kernel's loop, not one 64 kB pipe-full per turn
+PIPE_BYTES = 1 << 20
+
+
+def _widen(fd: int) -> None:
+    import fcntl
+
+    try:
+        fcntl.fcntl(fd, fcntl.F_SETPIPE_SZ, PIPE_BYTES)
+    except (AttributeError, OSError):   # not Linux, or above the system's limit: the default size
+        pass
+
+
 def start(draw, order, loop, on_frame, on_end) -> Worker | None:
     """Fork a child that draws ``draw(key)`` (PNG bytes) for every key of ``order(view)`` (``view``
     None at first), and returns its :class:`Worker`; ``on_frame(key, png)`` receives each frame in
@@ -180,6 +194,7 @@ def start(draw, order, loop, on_frame, on_end) -> Worker | None:
         return None
     out_r, out_w = os.pipe()
     cmd_r, cmd_w = os.pipe()
+    _widen(out_w)
     parent = os.getpid()
     with warnings.catch_warnings():    # Python 3.12 warns on fork with threads; the child uses none of them
         warnings.simplefilter("ignore", DeprecationWarning)
