@@ -349,6 +349,33 @@ def test_the_worker_draws_on_while_the_kernel_runs_a_cell(tmp_path, monkeypatch)
     assert len(view.frames) == 12 and view.stats["ahead"] == 11 and view.stats["on_move"] == 0
 
 
+def test_after_a_move_the_worker_draws_around_the_new_view_first():
+    from orrc.viz import LiveView
+
+    def slow(M, gamma):
+        import time
+
+        time.sleep(0.1)
+        return line_plot([])(M, gamma)
+
+    moved = []
+
+    def until(view):
+        if not moved and view.stats["ahead"] >= 3:    # the cell's neighbour and two from the worker
+            moved.append(list(view.frames))
+            view.sliders["M"].value = 12               # a jump to the far end (drawn on the move)
+        return view.pending == 0 and view.worker is None
+
+    view = _in_a_loop(lambda: LiveView(slow, {"M": list(range(1, 13)), "gamma": [1.0]}, {"M": 1, "gamma": 1.0},
+                                       100, ahead=True), until)
+    before = len(moved[0])
+    after = [k[0] for k in list(view.frames)[before + 1:]]      # the worker's frames after the move
+    # the frames in progress or on their way at the move come first, then the rest from the new view
+    # outwards (the old order went on upwards: 4, 5, 6, ...)
+    assert 10 in after[:3] and after[2:] == sorted(after[2:], reverse=True), after
+    assert view.stats["on_move"] == 1 and len(view.frames) == 12
+
+
 def test_a_plotting_error_in_the_worker_is_shown_on_the_move():
     from orrc.viz import LiveView
 

@@ -141,10 +141,15 @@ class Worker:
     def show(self, view: tuple, drawn) -> None:
         """Tell the child the reader's view now and the frames the view has (it draws the rest,
         nearest ``view`` first)."""
+        import select
+
         if not self.alive:
             return
+        message = _pack((view, sorted(drawn)))
+        if len(message) > select.PIPE_BUF:     # only a message this short is written whole or not at all
+            message = _pack((view, []))        # the view alone: the child may draw a frame twice
         try:
-            _write_all(self._cmd, _pack((view, sorted(drawn))))
+            os.write(self._cmd, message)
         except (BlockingIOError, BrokenPipeError):   # the child is busy with a frame or gone: it ends soon
             pass
 

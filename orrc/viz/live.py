@@ -155,13 +155,13 @@ class LiveView:
 
     def _moved(self, _change=None) -> None:
         key = self.key()
-        with self.messages:
-            self.messages.clear_output()
-            self.image.value = self.frame(key)
-        if self.pending:  # the frames still to draw: nearest the new view first
+        if self.pending:  # the frames still to draw: nearest the new view first (the worker told first)
             self._queue = [k for k in self._order(key) if k not in self.frames and k not in self.failed]
             if self.worker is not None:
                 self.worker.show(key, self.frames)
+        with self.messages:
+            self.messages.clear_output()
+            self.image.value = self.frame(key)
 
     def _worker_order(self, view: tuple | None) -> list[tuple]:
         """The worker's order: around ``view``; at first (None) the first view's neighbours last (the
