@@ -65,13 +65,14 @@ def check_figure(fig, kwargs: dict):
 
 class LiveView:
     """Sliders (one ``SelectionSlider`` per parameter), the frame as an ``Image``, frames cached per
-    grid point and drawn ahead while the kernel is idle (see the module docstring).
+    grid point and drawn ahead of the reader (see the module docstring).
 
     ``ahead``: draw the frames ahead in the running asyncio loop (default: when in a Jupyter kernel).
     ``worker``: draw them in a worker process (:mod:`orrc.viz.ahead`; default: where the platform
     can fork), else on the loop's thread. ``widget``: the ``VBox`` to display. ``stats``: how many
     frames were drawn on a move (``on_move``), ahead of the reader (``ahead``) and shown from the cache
-    (``cached``). ``worker``: the :class:`orrc.viz.ahead.Worker` drawing ahead (None: none, or done).
+    (``cached``). The attribute ``worker``: the :class:`orrc.viz.ahead.Worker` drawing ahead (None:
+    none, or it is done).
     """
 
     def __init__(self, plot, params: dict, initial: dict, dpi: int, ahead: bool | None = None,
