@@ -113,6 +113,7 @@ def test_widget_benchmark_drives_every_explorer_in_a_kernel():
         # the first moves (one per slider and back) came right after the cells ran: each frame was drawn
         # once, ahead or on the move, and every other move was shown from the cache
         assert r["first_redrawn"] == len(r["first"]) == 2 * sum(k > 1 for k in r["params"].values())
+        assert 0 <= r["first_on_move"] <= len(r["first"]) // 2     # a move back finds its frame drawn
         st = r["stats"]
         assert st["on_move"] + st["ahead"] == n - 1 and st["cached"] + st["on_move"] == len(r["times"]) + len(r["first"])
         assert all(t > 0 for t in r["times"] + r["cold"])

@@ -147,6 +147,37 @@ def test_the_live_frame_is_the_wide_static_frame():
     assert "text/html" in bundle and "application/vnd.jupyter.widget-view+json" in bundle
 
 
+@pytest.mark.parametrize("pyplot", [False, True])
+def test_a_live_frame_drawn_once_has_the_pixels_of_savefig(pyplot):
+    """``figure_to_png(fast=True, tight=False)`` draws the figure once (its constrained layout inside
+    that draw) instead of savefig's two draws: the same pixels, and the figure keeps its canvas."""
+    import numpy as np
+    from matplotlib.figure import Figure
+    from PIL import Image
+
+    def make():
+        fig = plt.figure(figsize=(7, 3), layout="constrained") if pyplot else Figure(figsize=(7, 3),
+                                                                                  layout="constrained")
+        axes = fig.subplots(1, 3)
+        for i, ax in enumerate(axes):
+            ax.plot(np.arange(200), np.cumsum(np.sin(np.arange(200) * (i + 1))), label="a line")
+            ax.set_ylabel(rf"$R^p_t(\gamma)$, $\gamma={10 ** i}$")
+        axes[0].legend(fontsize=9)
+        fig.suptitle("three panels")
+        return fig
+
+    ref = make()
+    buf = io.BytesIO()
+    ref.savefig(buf, format="png", dpi=120)
+    fig = make()
+    canvas = fig.canvas
+    png = figure_to_png(fig, dpi=120, close=False, tight=False, fast=True)
+    assert fig.canvas is canvas and fig.get_layout_engine() is not None
+    a, b = (np.asarray(Image.open(io.BytesIO(p)).convert("RGBA")) for p in (buf.getvalue(), png))
+    assert a.shape == b.shape == (360, 840, 4) and (a == b).all()
+    plt.close("all")
+
+
 def test_in_a_live_kernel_only_the_widget_and_in_the_book_build_only_the_frames(monkeypatch):
     import importlib
 
@@ -201,36 +232,181 @@ def test_the_book_build_signal_is_read_from_the_environment(monkeypatch, value, 
     assert orrc.config.book_build() is expected
 
 
-def test_live_view_draws_ahead_in_the_kernels_event_loop():
-    """In a kernel the frames not yet drawn are drawn while the loop is idle (here: an asyncio loop
-    of its own, in a thread, as the kernel's runs its cells), the neighbours of the first view first;
-    afterwards every move is from the cache."""
+def _in_a_loop(make_view, until=lambda view: view.pending == 0):
+    """The view ``make_view()`` made inside an asyncio loop of its own, in a thread (as a kernel runs
+    its cells in its loop), once the loop has run until ``until(view)`` (at most 10 s)."""
     import asyncio
     import threading
 
-    from orrc.viz import LiveView
-
-    calls, out = [], {}
-    grid = {"M": [2, 5, 10], "gamma": [1.0, 2.0]}
+    out = {}
 
     async def main():
-        view = LiveView(line_plot(calls), grid, {"M": 5, "gamma": 1.0}, 100, ahead=True)
-        for _ in range(500):
-            await asyncio.sleep(0.01)
-            if view.pending == 0:
-                break
-        out["view"] = view
+        try:
+            view = make_view()
+            for _ in range(1000):
+                await asyncio.sleep(0.01)
+                if until(view):
+                    break
+            out["view"] = view
+        except BaseException as e:  # noqa: BLE001 - raised again in the test's thread
+            out["error"] = e
 
     thread = threading.Thread(target=lambda: asyncio.run(main()))
     thread.start()
-    thread.join(timeout=60)
-    view = out["view"]
+    thread.join(timeout=120)
+    if "error" in out:
+        raise out["error"]
+    return out["view"]
+
+
+def test_live_view_draws_ahead_in_the_kernels_event_loop():
+    """In a kernel the frames not yet drawn are drawn while the loop is idle (here without a worker
+    process: on the loop's thread), the neighbours of the first view first; afterwards every move
+    is from the cache."""
+    from orrc.viz import LiveView
+
+    calls = []
+    grid = {"M": [2, 5, 10], "gamma": [1.0, 2.0]}
+    view = _in_a_loop(lambda: LiveView(line_plot(calls), grid, {"M": 5, "gamma": 1.0}, 100, ahead=True,
+                                       worker=False))
+    assert view.worker is None
     assert calls[0] == (5, 1.0) and set(calls[1:3]) == {(10, 1.0), (2, 1.0)} and calls[3] == (5, 2.0)
     assert sorted(calls) == sorted((M, g) for M in grid["M"] for g in grid["gamma"])
     assert view.stats["ahead"] == 5 and view.pending == 0
     for M in (2, 10, 5):
         view.sliders["M"].value = M
     assert len(calls) == 6 and view.stats["on_move"] == 0 and view.stats["cached"] == 3
+
+
+def _left(pid: int, seconds: float = 10.0) -> bool:
+    """Has the child process ``pid`` ended within ``seconds`` (reaped by its view, or now)?"""
+    import os
+    import time
+
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < seconds:
+        try:
+            if os.waitpid(pid, os.WNOHANG)[0]:
+                return True
+        except ChildProcessError:        # reaped already
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def test_a_worker_process_draws_the_other_frames_the_same():
+    """With a worker (the default in a kernel where the platform forks), the explorer's cell draws the
+    first view and its neighbours; every other frame comes from the child process, byte for byte the
+    frame the kernel would draw, and the plotting function never runs in the kernel for it."""
+    import os
+
+    from orrc.viz import LiveView
+
+    calls, pids = [], []
+    grid = {"M": [2, 5, 10], "gamma": [1.0, 2.0, 3.0]}
+
+    def make():
+        view = LiveView(line_plot(calls), grid, {"M": 5, "gamma": 1.0}, 100, ahead=True)
+        pids.append(view.worker.pid)
+        return view
+
+    view = _in_a_loop(make, until=lambda view: view.pending == 0 and view.worker is None)
+    assert sorted(calls) == [(2, 1.0), (5, 1.0), (5, 2.0), (10, 1.0)], "the first view and its neighbours only"
+    assert len(view.frames) == 9 and view.pending == 0 and view.stats["ahead"] == 8
+    for key, png in view.frames.items():
+        assert png == view._draw_png(key), key
+    assert view.worker is None and pids[0] != os.getpid() and _left(pids[0])
+
+
+def test_the_worker_draws_on_while_the_kernel_runs_a_cell(tmp_path, monkeypatch):
+    """A cell that keeps the kernel's loop busy does not hold the worker up: it draws every frame
+    meanwhile (here 100 kB of frames through a pipe that holds 4 kB; each drawing is noted in a
+    file), and the kernel takes them all once idle."""
+    import time
+
+    from orrc.viz import LiveView, ahead
+
+    monkeypatch.setattr(ahead, "PIPE_BYTES", 4096)
+
+    log = tmp_path / "drawn.txt"
+
+    def plot(M, gamma):
+        with open(log, "a") as f:
+            f.write(f"{M}\n")
+        return line_plot([], width=6.0)(M, gamma)
+
+    def make():
+        view = LiveView(plot, {"M": list(range(1, 13)), "gamma": [1.0]}, {"M": 1, "gamma": 1.0}, 100,
+                        ahead=True)
+        t0 = time.monotonic()           # the "cell": the loop is busy until the worker has drawn all
+        while len(log.read_text().split()) < 12 and time.monotonic() - t0 < 60:
+            time.sleep(0.05)
+        assert sorted(map(int, log.read_text().split())) == list(range(1, 13))
+        assert view.stats["ahead"] == 1 and len(view.frames) == 2   # nothing read during the "cell"
+        return view
+
+    view = _in_a_loop(make, until=lambda view: view.pending == 0 and view.worker is None)
+    assert len(view.frames) == 12 and view.stats["ahead"] == 11 and view.stats["on_move"] == 0
+
+
+def test_after_a_move_the_worker_draws_around_the_new_view_first():
+    from orrc.viz import LiveView
+
+    def slow(M, gamma):
+        import time
+
+        time.sleep(0.1)
+        return line_plot([])(M, gamma)
+
+    moved = []
+
+    def until(view):
+        if not moved and view.stats["ahead"] >= 3:    # the cell's neighbour and two from the worker
+            moved.append(list(view.frames))
+            view.sliders["M"].value = 12               # a jump to the far end (drawn on the move)
+        return view.pending == 0 and view.worker is None
+
+    view = _in_a_loop(lambda: LiveView(slow, {"M": list(range(1, 13)), "gamma": [1.0]}, {"M": 1, "gamma": 1.0},
+                                       100, ahead=True), until)
+    before = len(moved[0])
+    after = [k[0] for k in list(view.frames)[before + 1:]]      # the worker's frames after the move
+    # the frames in progress or on their way at the move come first, then the rest from the new view
+    # outwards (the old order went on upwards: 4, 5, 6, ...)
+    assert 10 in after[:3] and after[2:] == sorted(after[2:], reverse=True), after
+    assert view.stats["on_move"] == 1 and len(view.frames) == 12
+
+
+def test_a_plotting_error_in_the_worker_is_shown_on_the_move():
+    from orrc.viz import LiveView
+
+    def plot(M):
+        if M == 3:
+            raise RuntimeError("no frame for M = 3")
+        return line_plot([])(M, 1.0)
+
+    view = _in_a_loop(lambda: LiveView(plot, {"M": [1, 2, 3]}, {"M": 1}, 100, ahead=True),
+                      until=lambda view: view.pending == 0 and view.worker is None)
+    assert view.failed == {(2,)} and sorted(view.frames) == [(0,), (1,)]
+    with pytest.raises(RuntimeError, match="no frame for M = 3"):   # drawn on the move: its error shown
+        view.sliders["M"].value = 3
+
+
+def test_a_stopped_worker_leaves_and_forget_draws_nothing_ahead():
+    from orrc.viz import LiveView
+
+    def slow(M):
+        import time
+
+        time.sleep(0.2)
+        return line_plot([])(M, 1.0)
+
+    view = _in_a_loop(lambda: LiveView(slow, {"M": list(range(12))}, {"M": 0}, 100, ahead=True),
+                      until=lambda view: view.stats["ahead"] >= 2)
+    worker = view.worker
+    assert worker is not None and worker.alive and view.pending > 0
+    view.forget()
+    assert not worker.alive and view.worker is None and view.frames == {} and view.pending == 0
+    assert _left(worker.pid), "the stopped worker leaves at its next frame"
 
 
 def test_outside_a_kernel_nothing_is_drawn_ahead():

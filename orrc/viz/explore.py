@@ -6,8 +6,9 @@ where it runs, decided from explicit signals, not guessed:
 
 * **in a live kernel** (JupyterLab, a notebook; ``live``): only the live widget,
   :class:`orrc.viz.live.LiveView`: sliders whose moves show the frame of the new grid point, drawn
-  by the same ``plot``, cached per grid point and drawn ahead while the kernel is idle. Its
-  notebook output is ``application/vnd.jupyter.widget-view+json``.
+  by the same ``plot``, cached per grid point and drawn ahead of the reader (in a worker process
+  forked from the kernel, :mod:`orrc.viz.ahead`, or while the kernel is idle). Its notebook output
+  is ``application/vnd.jupyter.widget-view+json``.
 * **in the book's build** (``orrc.config.book_build()``: ``ORRC_BOOK_BUILD=1``, set by
   ``tools/build_book.py``), and outside a kernel (plain Python, the tests), where no widget could
   be shown: the static frames (``static``), ``text/html`` with the precomputed frames, HTML range

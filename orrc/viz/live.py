@@ -1,21 +1,29 @@
 """The live widget of an explorer: sliders over the grid, the figure as an image, frames cached.
 
 A slider move in a live kernel shows the frame of the new grid point. Drawing a frame (the
-chapter's plotting function, then one PNG) takes 0.1 to 1 s; showing a PNG already drawn takes
+chapter's plotting function, then one PNG) takes 0.05 to 0.5 s; showing a PNG already drawn takes
 milliseconds. So :class:`LiveView` keeps every frame it has drawn (one PNG per grid point, keyed
-by the slider positions) and, while the kernel is idle, draws the frames not yet drawn *ahead* of
-the reader: one frame per turn of the kernel's event loop (on the kernel's own thread, so the
-plotting function never runs concurrently with a cell or with itself), nearest first: the
-neighbours of the current view along each slider (the moves a reader makes next), then the rest of
-the grid; after every move the queue is ordered again around the new view. In a kernel the
-neighbours of the first view (one step along each slider: the first move a reader makes) are drawn
-before the explorer's cell returns, for at most :data:`NEIGHBOURS_SECONDS`, so that a move made right
-after a chapter ran finds its frame. A move to a frame not yet drawn draws it on the spot.
+by the slider positions) and draws the frames not yet drawn *ahead* of the reader, nearest first:
+the neighbours of the current view along each slider (the moves a reader makes next), then the
+rest of the grid; after every move what is left is ordered again around the new view.
+
+* **In a worker process** (:mod:`orrc.viz.ahead`, where the platform can fork): a child forked from
+  the kernel when the explorer is made draws them beside the kernel, at a lower CPU priority, and
+  sends each PNG back; the kernel's thread stays free, so a move never waits behind a frame drawn
+  ahead.
+* **Else on the kernel's own thread**: one frame per turn of the kernel's event loop while it is
+  idle (the plotting function never runs concurrently with a cell or with itself); a move that
+  arrives meanwhile waits for that frame.
+
+In a kernel the neighbours of the first view (one step along each slider: the first move a reader
+makes) are drawn before the explorer's cell returns, for at most :data:`NEIGHBOURS_SECONDS`, so that
+a move made right after a chapter ran finds its frame (the worker draws the others meanwhile). A
+move to a frame not yet drawn draws it on the spot.
 
 The figure is an ``ipywidgets.Image`` whose value is replaced in place (no flicker, no clearing
 of an output area); errors of the plotting function appear in an ``Output`` below it. Each PNG is
-:func:`orrc.viz.figures.render_live`: the wide rendering of the book's frames (same size, fonts
-and layout), in full colour with light compression.
+:func:`orrc.viz.figures.render_live`: the wide rendering of the book's frames (same size, fonts,
+layout and pixels), in full colour with light compression, drawn once.
 """
 from __future__ import annotations
 
@@ -23,6 +31,7 @@ import itertools
 import time
 
 from .._validate import OrrcValueError
+from . import ahead as _ahead
 from .figures import render_live
 
 __all__ = ["LiveView"]
@@ -56,14 +65,18 @@ def check_figure(fig, kwargs: dict):
 
 class LiveView:
     """Sliders (one ``SelectionSlider`` per parameter), the frame as an ``Image``, frames cached per
-    grid point and drawn ahead while the kernel is idle (see the module docstring).
+    grid point and drawn ahead of the reader (see the module docstring).
 
     ``ahead``: draw the frames ahead in the running asyncio loop (default: when in a Jupyter kernel).
-    ``widget``: the ``VBox`` to display. ``stats``: how many frames were drawn on a move
-    (``on_move``), ahead of the reader (``ahead``) and shown from the cache (``cached``).
+    ``worker``: draw them in a worker process (:mod:`orrc.viz.ahead`; default: where the platform
+    can fork), else on the loop's thread. ``widget``: the ``VBox`` to display. ``stats``: how many
+    frames were drawn on a move (``on_move``), ahead of the reader (``ahead``) and shown from the cache
+    (``cached``). The attribute ``worker``: the :class:`orrc.viz.ahead.Worker` drawing ahead (None:
+    none, or it is done).
     """
 
-    def __init__(self, plot, params: dict, initial: dict, dpi: int, ahead: bool | None = None):
+    def __init__(self, plot, params: dict, initial: dict, dpi: int, ahead: bool | None = None,
+                 worker: bool | None = None):
         import ipywidgets as widgets
 
         self.plot, self.params, self.dpi = plot, params, dpi
@@ -88,9 +101,16 @@ class LiveView:
 
             ahead = in_kernel()
         self._loop = _running_loop() if ahead else None
+        self.worker = None
         if self._loop is not None:
+            if worker is None or worker:
+                self.worker = _ahead.start(self._draw_png, self._worker_order, self._loop, self._received,
+                                           self._worker_ended)
             self._draw_neighbours(start, NEIGHBOURS_SECONDS)
-            self._loop.call_soon(self._draw_ahead)
+            if self.worker is None:
+                self._loop.call_soon(self._draw_ahead)
+            else:
+                self.worker.show(start, self.frames)
 
     @property
     def pending(self) -> int:
@@ -118,12 +138,16 @@ class LiveView:
                 if key != start and key not in first]
         return first + rest
 
+    def _draw_png(self, key: tuple) -> bytes:
+        """Draw the frame of grid point ``key`` (the plotting function, then one PNG)."""
+        kwargs = self.kwargs(key)
+        return render_live(check_figure(self.plot(**kwargs), kwargs), self.dpi)
+
     def frame(self, key: tuple) -> bytes:
         """The PNG of grid point ``key``: from the cache, or drawn now (and kept)."""
         png = self.frames.get(key)
         if png is None:
-            kwargs = self.kwargs(key)
-            png = render_live(check_figure(self.plot(**kwargs), kwargs), self.dpi)
+            png = self._draw_png(key)
             self.frames[key] = png
             self.stats["on_move"] += 1
         else:
@@ -132,11 +156,47 @@ class LiveView:
 
     def _moved(self, _change=None) -> None:
         key = self.key()
+        if self.pending:  # the frames still to draw: nearest the new view first (the worker told first)
+            self._queue = [k for k in self._order(key) if k not in self.frames and k not in self.failed]
+            if self.worker is not None:
+                self.worker.show(key, self.frames)
         with self.messages:
             self.messages.clear_output()
             self.image.value = self.frame(key)
-        if self.pending:  # the frames still to draw: nearest the new view first
-            self._queue = [k for k in self._order(key) if k not in self.frames and k not in self.failed]
+
+    def _worker_order(self, view: tuple | None) -> list[tuple]:
+        """The worker's order: around ``view``; at first (None) the first view's neighbours last (the
+        explorer's cell draws those itself)."""
+        if view is not None:
+            return self._order(view)
+        start = self.key()
+        near = [k for k in self._queue if sum(abs(a - b) for a, b in zip(k, start)) == 1]
+        return [k for k in self._queue if k not in near] + near
+
+    def _received(self, key: tuple, png: bytes | None) -> None:
+        """A frame from the worker (None: its plotting function raised; drawn on the move there)."""
+        if getattr(self.widget, "comm", None) is None:     # the widget was closed: no more frames
+            self.worker.stop()
+            return
+        if png is None:
+            self.failed.add(key)
+        elif key not in self.frames:
+            self.frames[key] = png
+            self.stats["ahead"] += 1
+
+    def _worker_ended(self) -> None:
+        """The worker has left: what it did not draw (it failed, or was stopped) is drawn here."""
+        self.worker = None
+        if self.pending and getattr(self.widget, "comm", None) is not None:
+            self._loop.call_soon(self._draw_ahead)
+
+    def forget(self) -> None:
+        """Forget every frame drawn and draw none ahead (each move then draws its frame)."""
+        if self.worker is not None:
+            self.worker.stop()
+            self.worker = None
+        self.frames.clear()
+        self._queue = []
 
     def _draw_neighbours(self, start: tuple, budget: float) -> None:
         """Draw the frames one step from ``start`` along each slider now (nearest first), until ``budget``
@@ -150,8 +210,7 @@ class LiveView:
     def _draw_one(self, key: tuple) -> None:
         """Draw the frame of ``key`` ahead of the reader (a plotting error is kept for the move there)."""
         try:
-            kwargs = self.kwargs(key)
-            self.frames[key] = render_live(check_figure(self.plot(**kwargs), kwargs), self.dpi)
+            self.frames[key] = self._draw_png(key)
             self.stats["ahead"] += 1
         except Exception:  # noqa: BLE001 - shown when the reader moves there (drawn on the move, in messages)
             self.failed.add(key)
@@ -168,6 +227,5 @@ class LiveView:
     def time_frame(self, key: tuple) -> float:
         """Seconds to draw grid point ``key`` from scratch (not cached): what a move costs without the cache."""
         t0 = time.perf_counter()
-        kwargs = self.kwargs(key)
-        render_live(check_figure(self.plot(**kwargs), kwargs), self.dpi)
+        self._draw_png(key)
         return time.perf_counter() - t0

@@ -1,0 +1,227 @@
+"""Frames drawn ahead in a worker process, so that the kernel stays free for the reader's moves.
+
+A live explorer (:class:`orrc.viz.live.LiveView`) draws the frames the reader has not asked for yet
+while the kernel is idle. Drawn on the kernel's own thread, a frame in progress delays a slider move
+that arrives meanwhile by up to one drawing (0.1 to 0.3 s for the book's three-panel figures, more
+on a busy machine). :func:`start` draws them in a child process instead:
+
+* the child is **forked** from the kernel (``os.fork``) when the explorer is made: it holds the
+  plotting function and its data as they were then, nothing is pickled, and the plotting function
+  never runs inside the kernel beside a cell (the child is another process, on a copy of the
+  kernel's memory);
+* it draws one grid point after the other in the order the view gives (nearest the current view
+  first); the view sends it every new view and the frames it drew itself (:meth:`Worker.show`), and
+  the child orders what is left again around that view;
+* it runs at a lower CPU priority than the kernel (``os.nice``), so a move drawn on the spot in the
+  kernel comes first;
+* it sends each PNG through a pipe that the kernel's event loop reads while it is idle
+  (``loop.add_reader``; while the kernel runs a cell, the frames wait in the child's memory and
+  the child draws on); a plotting error is sent as a frame that failed (the view draws that grid
+  point on the move and shows the error);
+* it prints nothing (its output streams are ``os.devnull``), ignores the kernel's interrupt (meant
+  for a cell), and leaves with ``os._exit`` (none of the kernel's clean-up, no message on its
+  sockets) when every frame is sent, when its pipe closes (the view stopped it, or the kernel is
+  gone) or on an error.
+
+Where ``os.fork`` or the loop's ``add_reader`` is missing (Windows), :func:`start` returns None and
+the view draws ahead on the kernel's thread, as before.
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import struct
+
+__all__ = ["Worker", "start", "NICE"]
+
+#: how much lower the child's CPU priority is than the kernel's (``os.nice`` increment)
+NICE = 10
+_HEAD = struct.Struct("!I")   # every message: its length, then a pickle
+_OPEN: set[int] = set()       # the kernel's ends of every worker's pipes (a new child closes them)
+
+
+def _pack(obj) -> bytes:
+    body = pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
+    return _HEAD.pack(len(body)) + body
+
+
+def _unpack(buf: bytearray) -> list:
+    """The complete messages at the start of ``buf`` (removed from it)."""
+    out = []
+    while len(buf) >= _HEAD.size:
+        (n,) = _HEAD.unpack_from(buf)
+        if len(buf) < _HEAD.size + n:
+            break
+        out.append(pickle.loads(bytes(buf[_HEAD.size:_HEAD.size + n])))
+        del buf[:_HEAD.size + n]
+    return out
+
+
+def _read_available(fd: int, buf: bytearray) -> bool:
+    """Append what ``fd`` (non-blocking) holds now to ``buf``; False when its other end is closed."""
+    while True:
+        try:
+            chunk = os.read(fd, 1 << 16)
+        except BlockingIOError:
+            return True
+        if not chunk:
+            return False
+        buf += chunk
+
+
+def _write_all(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        view = view[os.write(fd, view):]
+
+
+def _flush(fd: int, outbox: bytearray) -> None:
+    """Write what the pipe ``fd`` (non-blocking) takes now from the start of ``outbox``."""
+    while outbox:
+        try:
+            n = os.write(fd, outbox)
+        except BlockingIOError:
+            return
+        del outbox[:n]
+
+
+def _child(draw, order, out_fd: int, in_fd: int, parent: int) -> None:
+    """The child's work: draw the keys of ``order(view)`` not drawn yet, send each frame."""
+    import gc
+    import signal
+    import sys
+
+    gc.freeze()                  # the kernel's objects are never collected here (no widget's __del__ runs)
+    sys.stdout = sys.stderr = open(os.devnull, "w")   # noqa: SIM115 - the child's whole life
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    os.nice(NICE)
+    os.set_blocking(in_fd, False)
+    os.set_blocking(out_fd, False)   # frames wait in the outbox while the kernel runs a cell
+    todo, inbox, outbox = list(order(None)), bytearray(), bytearray()
+    while todo and os.getppid() == parent:
+        if not _read_available(in_fd, inbox):
+            return               # the view stopped the worker
+        for view, drawn in _unpack(inbox):
+            left = set(todo) - set(drawn)
+            todo = [k for k in order(view) if k in left]
+        if not todo:
+            break
+        key = todo.pop(0)
+        try:
+            png = draw(key)
+        except Exception:  # noqa: BLE001 - the view draws this grid point on the move and shows the error
+            png = None
+        outbox += _pack((key, png))
+        _flush(out_fd, outbox)
+    os.set_blocking(out_fd, True)
+    _write_all(out_fd, outbox)
+
+
+class Worker:
+    """The kernel's side of a child drawing frames (see the module docstring). ``pid``: the child's
+    process id; ``alive``: False once it has ended (all frames sent, stopped, or failed)."""
+
+    def __init__(self, pid: int, out_r: int, cmd_w: int, loop, on_frame, on_end):
+        self.pid, self._out, self._cmd, self._loop = pid, out_r, cmd_w, loop
+        self._on_frame, self._on_end = on_frame, on_end
+        self._inbox = bytearray()
+        self.alive = True
+        os.set_blocking(out_r, False)
+        os.set_blocking(cmd_w, False)
+        loop.add_reader(out_r, self._readable)
+
+    def _readable(self) -> None:
+        more = _read_available(self._out, self._inbox)
+        for key, png in _unpack(self._inbox):
+            self._on_frame(key, png)
+        if not more:
+            self.stop()
+            self._on_end()
+
+    def show(self, view: tuple, drawn) -> None:
+        """Tell the child the reader's view now and the frames the view has (it draws the rest,
+        nearest ``view`` first)."""
+        import select
+
+        if not self.alive:
+            return
+        message = _pack((view, sorted(drawn)))
+        if len(message) > select.PIPE_BUF:     # only a message this short is written whole or not at all
+            message = _pack((view, []))        # the view alone: the child may draw a frame twice
+        try:
+            os.write(self._cmd, message)
+        except (BlockingIOError, BrokenPipeError):   # the child is busy with a frame or gone: it ends soon
+            pass
+
+    def stop(self) -> None:
+        """Close the pipes (the child leaves at its next frame) and reap the child when it has left."""
+        if not self.alive:
+            return
+        self.alive = False
+        if not self._loop.is_closed():
+            self._loop.remove_reader(self._out)
+        for fd in (self._out, self._cmd):
+            _OPEN.discard(fd)
+            os.close(fd)
+        self._reap()
+
+    def _reap(self) -> None:
+        try:
+            done, _ = os.waitpid(self.pid, os.WNOHANG)
+        except ChildProcessError:
+            return
+        if not done and not self._loop.is_closed():
+            self._loop.call_later(0.2, self._reap)
+
+
+#: the frames' pipe holds this many bytes where the system allows (Linux): a whole explorer's frames
+#: (20 to 50 kB each) are read in one turn of the kernel's loop, not one 64 kB pipe-full per turn
+PIPE_BYTES = 1 << 20
+
+
+def _widen(fd: int) -> None:
+    import fcntl
+
+    try:
+        fcntl.fcntl(fd, fcntl.F_SETPIPE_SZ, PIPE_BYTES)
+    except (AttributeError, OSError):   # not Linux, or above the system's limit: the default size
+        pass
+
+
+def start(draw, order, loop, on_frame, on_end) -> Worker | None:
+    """Fork a child that draws ``draw(key)`` (PNG bytes) for every key of ``order(view)`` (``view``
+    None at first), and returns its :class:`Worker`; ``on_frame(key, png)`` receives each frame in
+    ``loop`` (``png`` None: the plotting function raised), ``on_end()`` is called when the child has
+    ended. None where the platform cannot fork or the loop cannot watch a pipe."""
+    import warnings
+
+    if not hasattr(os, "fork") or not hasattr(loop, "add_reader"):
+        return None
+    out_r, out_w = os.pipe()
+    cmd_r, cmd_w = os.pipe()
+    _widen(out_w)
+    parent = os.getpid()
+    with warnings.catch_warnings():    # Python 3.12 warns on fork with threads; the child uses none of them
+        warnings.simplefilter("ignore", DeprecationWarning)
+        pid = os.fork()
+    if pid == 0:                       # the child: never returns to the kernel's code
+        code = 0
+        try:
+            for fd in (*_OPEN, out_r, cmd_w):
+                os.close(fd)
+            _child(draw, order, out_w, cmd_r, parent)
+        except BaseException:  # noqa: BLE001 - nothing of the kernel may run in the child
+            code = 1
+        finally:
+            os._exit(code)
+    os.close(out_w)
+    os.close(cmd_r)
+    _OPEN.update((out_r, cmd_w))
+    try:
+        return Worker(pid, out_r, cmd_w, loop, on_frame, on_end)
+    except NotImplementedError:        # a loop without add_reader (the Windows proactor)
+        for fd in (out_r, cmd_w):
+            _OPEN.discard(fd)
+            os.close(fd)
+        os.waitpid(pid, 0)
+        return None
