@@ -9,9 +9,9 @@ where it runs, decided from explicit signals, not guessed:
   by the same ``plot``, cached per grid point and drawn ahead of the reader (in a worker process
   forked from the kernel, :mod:`orrc.viz.ahead`, or while the kernel is idle). Its notebook output
   is ``application/vnd.jupyter.widget-view+json``.
-* **in the book's build** (``orrc.config.book_build()``: ``ORRC_BOOK_BUILD=1``, set by
-  ``tools/build_book.py``), and outside a kernel (plain Python, the tests), where no widget could
-  be shown: the static frames (``static``), ``text/html`` with the precomputed frames, HTML range
+* **in the book's build** (``orrc.config.book_build()``: ``ORRC_BOOK_BUILD=1``, set when the
+  HTML book is built), and outside a kernel (a plain Python script), where no widget could be
+  shown: the static frames (``static``), ``text/html`` with the precomputed frames, HTML range
   sliders and a few lines of JavaScript that flip between them, no kernel needed (the rendered book
   shows this one).
 
@@ -20,7 +20,7 @@ is rendered twice by :func:`orrc.viz.figures.render`, at 100 dpi with fonts of a
 wide, and narrow for a phone (panels stacked); the page shows the one that fits its column
 (:func:`orrc.viz.figures.picture_html`). The live widget shows the wide rendering.
 
-The HTML contract (used by the browser tests): a ``div.orrc-frames`` holding one
+The HTML it writes (for a page's own styles and scripts): a ``div.orrc-frames`` holding one
 ``input.orrc-slider[type=range]`` per parameter and a ``div.orrc-figure`` with an
 ``img.orrc-frame[data-variant=wide]`` and (for a frame wider than a phone's column) an
 ``img.orrc-frame[data-variant=narrow]``; the frame data (``script.orrc-frame-data``, JSON)
