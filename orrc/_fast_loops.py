@@ -14,6 +14,7 @@ import numpy as np
 
 from ._casadi import buffered
 from ._validate import OrrcValueError
+from .solvers.nlp import SQP, SQP_SOLVED
 from .systems import NonlinearSystem
 from .trajectory import Record, windows
 
@@ -101,29 +102,30 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         system = step.__self__
         f = buffered(system, "f", lambda: system.function)
         fx, fu, fw, fout = f.args[0], f.args[1], f.args[2], f.res[0]
-    synced, kept = False, None   # the guess in the buffer is this step's; the accepted step not yet handed over
-    status, solver, V, has_value, iters, times = rec.status, rec.solver, rec.V, rec.has_value, rec.iters, rec.times
+    synced, kept = False, -1   # the guess in the buffer is this step's; the accepted step not yet handed over
+    status, solver, V, has_value, times = rec.status, rec.solver, rec.V, rec.has_value, rec.times
+    value = warm.f
+    warm.start(rec.iters)   # the iteration counts (of some steps one solve later: WarmSQP)
     for t in range(T):
         xt = X_read[t]
         if not synced:
-            out = None
+            elapsed = None
         elif cp is None:
-            out = warm.step(xt, wflat[t * n:(t + M) * n])
+            elapsed = warm.step(xt, wflat[t * n:(t + M) * n], None, t)
         else:
-            out = warm.step(xt, wflat[t * n:(t + M) * n], cflat[t * k:(t + M) * k])
-        if out is None:   # the controller's own step (its failure ladder), from the last accepted plan
-            if kept is not None:
-                ladder.succeeded(kept[0], warm.plan(X_read[kept[0]], kept[1]))
-                kept = None
+            elapsed = warm.step(xt, wflat[t * n:(t + M) * n], cflat[t * k:(t + M) * k], t)
+        if elapsed is None:   # the controller's own step (its failure ladder), from the last accepted plan
+            if kept >= 0:
+                ladder.succeeded(kept, warm.plan(X_read[kept], float(V[kept])))
+                kept = -1
             general_step(t)
             shifted = ladder.warm_start(t + 1)
             synced = shifted is not None and shifted[2] == 1 and rec.ok[t]
             if synced:
                 warm.set_guess(shifted[0], shifted[1])
             continue
-        V[t], status[t], iters[t], times[t] = out
-        has_value[t], solver[t] = True, "sqp"
-        kept = (t, out[0])
+        V[t], times[t], status[t], solver[t], has_value[t] = value[0], elapsed, SQP_SOLVED, SQP, True
+        kept = t
         U[t] = z[:m]
         u = U[t]
         if per_step_cost:
@@ -134,8 +136,9 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
             fx[:], fu[:], fw[:] = xt, u, wpad[t]
             f._evaluate()
             X[t + 1] = fout
-    if kept is not None:
-        ladder.succeeded(kept[0], warm.plan(X_read[kept[0]], kept[1]))
+    warm.finish()
+    if kept >= 0:
+        ladder.succeeded(kept, warm.plan(X_read[kept], float(V[kept])))
 
 
 def record_fast_steps(controller, rec: Record) -> None:

@@ -100,7 +100,18 @@ DEFAULT_SQP = {
     "print_iteration": False,
     "print_status": False,
     "print_time": False,
+    # an unsuccessful solve raises (CasADi's error text: UNSUCCESSFUL), so that a successful one is known
+    # without reading its statistics; its answer and statistics are there as without the option
+    "error_on_fail": True,
+    # no multipliers of the parameters (nothing here uses them): no gradient evaluation after each solve
+    "calc_lam_p": False,
+    "no_nlp_grad": True,
 }
+#: what CasADi raises for an unsuccessful solve with ``error_on_fail`` (the solve itself ran as without it)
+UNSUCCESSFUL = "nlpsol process failed"
+#: the status of every successful ``sqpmethod`` solve (the only one with ``success``)
+SQP_SOLVED = "Solve_Succeeded"
+_NEEDS_NLP_GRAD = ("calc_lam_p", "calc_lam_x", "calc_f", "calc_g")
 
 #: the acceptance checks of an SQP answer (module docstring): relative and absolute slack
 ACCEPT_RTOL, ACCEPT_ATOL = 1e-8, 1e-12
@@ -132,6 +143,8 @@ def _split_options(solver_options: dict | None, solvers) -> tuple[dict, list]:
                 opts["qpsol_options"].update(value)
             else:
                 opts[key] = value
+        if s == SQP and any(opts.get(key) for key in _NEEDS_NLP_GRAD):
+            opts["no_nlp_grad"] = False   # the user asked for what the gradient function computes
         out[s] = opts
     return out, unused
 
@@ -243,10 +256,11 @@ class ShootingNLP(DropsBuffers):
 
     def _acceptance_inputs(self) -> list:
         """The inputs of the acceptance function (:func:`_acceptance_function`: z, g, λ_x, λ_g, p, the guess's
-        inputs) as views of this thread's SQP buffer: the solver's results, its parameters and the inputs of
+        inputs, J) as views of this thread's SQP buffer: the solver's results, its parameters and the inputs of
         its initial guess, where the solver left them."""
         sqp = self._call(SQP)
-        return [sqp.res[0], sqp.res[2], sqp.res[3], sqp.res[4], sqp.args[1], sqp.args[0][: self.M * self.m]]
+        return [sqp.res[0], sqp.res[2], sqp.res[3], sqp.res[4], sqp.args[1], sqp.args[0][: self.M * self.m],
+                sqp.res[1]]
 
     @property
     def solver_name(self) -> str:
@@ -296,7 +310,7 @@ class ShootingNLP(DropsBuffers):
         try:
             error = call()
         except RuntimeError as exc:  # e.g. the QP solver of SQP fails inside CasADi: a failed solve
-            error = exc
+            error = None if UNSUCCESSFUL in str(exc) else exc   # (not converged: read below, as any answer)
         elapsed = time.perf_counter() - t0
         stats = call.stats()
         iterations = int(stats.get("iter_count", 0) or 0)
@@ -339,7 +353,7 @@ class ShootingNLP(DropsBuffers):
             check.evaluate()
         else:
             check = self._call("acceptance-copy")
-            check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1))
+            check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1), value)
         quantities = check.res[0].tolist()
         extra["complementarity"], extra["guess_cost"] = quantities[0], quantities[1]
         return rejection(quantities, value)
@@ -363,23 +377,36 @@ def rejection(quantities, value: float) -> str | None:
 
 def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bool) -> ca.Function:
     """The quantities of the SQP acceptance checks (module docstring) as one CasADi function of the
-    solver's answer, its multipliers, the parameters and the guess's inputs:
-    (z, g, λ_x, λ_g, p, vec U_guess) -> [Σ_i λ⁺_i (ub_i − z_i) + λ⁻_i (z_i − lb_i), J_g (the cost of the
+    solver's answer, its multipliers, the parameters, the guess's inputs and the answer's objective J:
+    (z, g, λ_x, λ_g, p, vec U_guess, J) -> [Σ_i λ⁺_i (ub_i − z_i) + λ⁻_i (z_i − lb_i), J_g (the cost of the
     guess's inputs rolled out), 1 if that rollout is finite (and within the state bounds) else 0,
-    ‖λ_g‖₁, ‖g‖_∞, 1 if z is finite else 0]. A multiplier on an absent (infinite) bound makes the first
-    one infinite."""
+    ‖λ_g‖₁, ‖g‖_∞, 1 if z is finite else 0, 1 if the answer is accepted else 0]. The last is the verdict
+    of :func:`rejection` on the others and J finite, computed with the same floating-point operations
+    in the same order (so the same verdict). A multiplier on an absent (infinite) bound makes the first
+    one infinite. (Finiteness is |x| < inf, entry by entry: CasADi simplifies x * 0 to 0.)"""
     zs, gs, lam_x, lam_g = (ca.SX.sym(name, v.numel()) for name, v in (("z", z), ("g", g), ("lam_x", z),
                                                                        ("lam_g", g)))
     lb, ub = ca.DM(lbz), ca.DM(ubz)
     gap = ca.if_else(lam_x > 0, ub - zs, zs - lb)
     complementarity = ca.sum1(ca.fabs(lam_x) * ca.if_else(lam_x != 0, gap, 0))
     roll = ca.Function("guess_rollout", [p, U], [J_roll, X_roll])
-    ps, Us = ca.SX.sym("p", p.numel()), ca.SX.sym("U", U.numel())
+    ps, Us, J = ca.SX.sym("p", p.numel()), ca.SX.sym("U", U.numel()), ca.SX.sym("J")
+
+    def finite(v):
+        return ca.sum1(ca.fabs(v) < ca.inf) == v.numel()
+
     J_g, X_g = roll(ps, Us)
-    finite = ca.logic_and(J_g * 0 == 0, ca.sum1(X_g * 0) == 0)   # x * 0 is NaN exactly when x is inf or NaN
+    rollout_ok = ca.logic_and(finite(J_g), finite(X_g))
     if state_bounded:
         n_u = U.numel()
-        finite = ca.logic_and(finite, ca.logic_and(ca.mmin(X_g - lb[n_u:]) >= 0, ca.mmin(ub[n_u:] - X_g) >= 0))
-    out = ca.vertcat(complementarity, J_g, ca.if_else(finite, 1, 0), ca.sum1(ca.fabs(lam_g)),
-                     ca.mmax(ca.fabs(gs)) if g.numel() else 0, ca.if_else(ca.sum1(zs * 0) == 0, 1, 0))
-    return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, Us], [out])
+        rollout_ok = ca.logic_and(rollout_ok, ca.logic_and(ca.mmin(X_g - lb[n_u:]) >= 0,
+                                                           ca.mmin(ub[n_u:] - X_g) >= 0))
+    lam_g_1, g_inf = ca.sum1(ca.fabs(lam_g)), (ca.mmax(ca.fabs(gs)) if g.numel() else ca.SX(0))
+    # rejection(): complementary multipliers, and J not above the guess's cost where its rollout is usable
+    slack = ACCEPT_RTOL * ca.fabs(J_g) + lam_g_1 * g_inf
+    not_worse = ca.logic_or(ca.logic_not(rollout_ok), ca.logic_not(J > J_g + slack + ACCEPT_ATOL))
+    accepted = ca.logic_and(ca.logic_and(finite(J), finite(zs)),
+                            ca.logic_and(complementarity <= ACCEPT_RTOL * ca.fabs(J) + ACCEPT_ATOL, not_worse))
+    out = ca.vertcat(complementarity, J_g, ca.if_else(rollout_ok, 1, 0), lam_g_1, g_inf,
+                     ca.if_else(finite(zs), 1, 0), ca.if_else(accepted, 1, 0))
+    return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, Us, J], [out])
