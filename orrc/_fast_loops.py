@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._casadi import buffered
+from ._casadi import Buffered
 from ._validate import OrrcValueError
 from .solvers.nlp import SQP, SQP_SOLVED
 from .systems import NonlinearSystem
@@ -97,11 +97,12 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         k = cp.shape[1]
         cflat = np.ascontiguousarray(cp).reshape(-1)
     per_step_cost = not rec.quadratic
-    f = None  # the plant on its own buffers when it is a NonlinearSystem's own step (as its _step evaluates)
+    f = None  # the plant on the solver's buffers when it is a NonlinearSystem's own step (as its _step evaluates)
     if step is not None and getattr(step, "__func__", None) is NonlinearSystem._step:
-        system = step.__self__
-        f = buffered(system, "f", lambda: system.function)
-        fx, fu, fw, fout = f.args[0], f.args[1], f.args[2], f.res[0]
+        # f(x_t, u_t, w_t) read where an accepted warm step leaves them: x_t and w_t (the preview's first row)
+        # in the solver's parameters, u_t in its answer (no copies)
+        f = Buffered(step.__self__.function, args=[warm.p[:n], z[:m], warm.p[n:2 * n]])
+        fout = f.res[0]
     synced, kept = False, -1   # the guess in the buffer is this step's; the accepted step not yet handed over
     status, solver, V, has_value, times = rec.status, rec.solver, rec.V, rec.has_value, rec.times
     value = warm.f
@@ -133,7 +134,6 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         if f is None:
             X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
         else:
-            fx[:], fu[:], fw[:] = xt, u, wpad[t]
             f._evaluate()
             X[t + 1] = fout
     warm.finish()

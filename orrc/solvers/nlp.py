@@ -235,8 +235,11 @@ class ShootingNLP(DropsBuffers):
         self.ubz = np.concatenate([np.tile(uhi, M), np.tile(xhi, M)])
         if SQP in self.solvers:
             self._rollout = ca.Function("rollout", [p, ca.vec(U)], [J_roll, ca.vertcat(*X_roll)])
+            nu = M * m   # the guess of the next step: z shifted by one step (its last input and state kept)
+            shift = [*range(m, nu), *range(nu - m, nu), *range(nu + n, nu + M * n),
+                     *range(nu + (M - 1) * n, nu + M * n)]
             self._acceptance = _acceptance_function(z, problem["g"], p, ca.vec(U), J_roll, ca.vertcat(*X_roll),
-                                                    self.lbz, self.ubz, state_bounds is not None)
+                                                    self.lbz, self.ubz, state_bounds is not None, shift)
         self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
         self._cold_U = np.clip(np.zeros((M, m)), *self.input_bounds)
         self._cold_U.flags.writeable = False
@@ -375,25 +378,34 @@ def rejection(quantities, value: float) -> str | None:
     return None
 
 
-def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bool) -> ca.Function:
+def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bool, shift) -> ca.Function:
     """The quantities of the SQP acceptance checks (module docstring) as one CasADi function of the
     solver's answer, its multipliers, the parameters, the guess's inputs and the answer's objective J:
-    (z, g, λ_x, λ_g, p, vec U_guess, J) -> [Σ_i λ⁺_i (ub_i − z_i) + λ⁻_i (z_i − lb_i), J_g (the cost of the
+    (z, g, λ_x, λ_g, p, vec U_guess, J) -> ([Σ_i λ⁺_i (ub_i − z_i) + λ⁻_i (z_i − lb_i), J_g (the cost of the
     guess's inputs rolled out), 1 if that rollout is finite (and within the state bounds) else 0,
-    ‖λ_g‖₁, ‖g‖_∞, 1 if z is finite else 0, 1 if the answer is accepted else 0]. The last is the verdict
+    ‖λ_g‖₁, ‖g‖_∞, 1 if z is finite else 0, 1 if the answer is accepted else 0], z[shift]: the guess of
+    the next step, the answer shifted by one step, for the warm loop to copy when it accepts). The verdict
     of :func:`rejection` on the others and J finite, computed with the same floating-point operations
     in the same order (so the same verdict). A multiplier on an absent (infinite) bound makes the first
-    one infinite. (Finiteness is |x| < inf, entry by entry: CasADi simplifies x * 0 to 0.)"""
+    one infinite. (Finiteness: |Σ x| < inf; CasADi simplifies x * 0 to 0.)"""
     zs, gs, lam_x, lam_g = (ca.SX.sym(name, v.numel()) for name, v in (("z", z), ("g", g), ("lam_x", z),
                                                                        ("lam_g", g)))
     lb, ub = ca.DM(lbz), ca.DM(ubz)
-    gap = ca.if_else(lam_x > 0, ub - zs, zs - lb)
-    complementarity = ca.sum1(ca.fabs(lam_x) * ca.if_else(lam_x != 0, gap, 0))
+    terms = []   # λ_i's term, by the bounds z_i has (the same value as the general form for a finite z)
+    for i in range(z.numel()):
+        lam, zi, lo, hi = lam_x[i], zs[i], float(lbz[i]), float(ubz[i])
+        if math.isinf(lo) and math.isinf(hi):   # no bound: any multiplier is infinitely wrong
+            terms.append(ca.if_else(lam != 0, ca.fabs(lam) * math.inf, 0))
+        elif math.isinf(lo) or math.isinf(hi):
+            terms.append(ca.fabs(lam) * ca.if_else(lam != 0, ca.if_else(lam > 0, hi - zi, zi - lo), 0))
+        else:   # two finite bounds: the gap is finite, and λ = 0 adds 0
+            terms.append(ca.fabs(lam) * ca.if_else(lam > 0, hi - zi, zi - lo))
+    complementarity = ca.sum1(ca.vertcat(*terms))
     roll = ca.Function("guess_rollout", [p, U], [J_roll, X_roll])
     ps, Us, J = ca.SX.sym("p", p.numel()), ca.SX.sym("U", U.numel()), ca.SX.sym("J")
 
-    def finite(v):
-        return ca.sum1(ca.fabs(v) < ca.inf) == v.numel()
+    def finite(v):   # the sum is finite (as solve() tests the answer: isfinite(z.sum()))
+        return ca.fabs(ca.sum1(v)) < ca.inf
 
     J_g, X_g = roll(ps, Us)
     rollout_ok = ca.logic_and(finite(J_g), finite(X_g))
@@ -409,4 +421,4 @@ def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bo
                             ca.logic_and(complementarity <= ACCEPT_RTOL * ca.fabs(J) + ACCEPT_ATOL, not_worse))
     out = ca.vertcat(complementarity, J_g, ca.if_else(rollout_ok, 1, 0), lam_g_1, g_inf,
                      ca.if_else(finite(zs), 1, 0), ca.if_else(accepted, 1, 0))
-    return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, Us, J], [out])
+    return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, Us, J], [ca.cse(out), zs[shift]])

@@ -47,7 +47,8 @@ class WarmSQP:
         call, self.check = nlp._call(SQP), nlp._call("acceptance")
         self._evaluate, self._buffer = call._evaluate, call.buffer
         self.z0, self.p, self.z, self.f = call.args[0], call.args[1], call.res[0], call.res[1]
-        self.verdict = self.check.res[0]   # the acceptance checks; its entry 6: 1 if the answer is accepted
+        self.verdict, self.shifted = self.check.res   # the checks (entry 6: 1 if accepted), z shifted by a step
+        self._check = self.check._evaluate
         self.nu, self.nw = M * m, n + M * n
         # the cost's parameters and θ: the same at every step of a time-invariant cost (as every solve writes them)
         self.p[self.nw:] = np.concatenate([np.asarray(P, float).reshape(-1), [] if theta is None else
@@ -84,7 +85,7 @@ class WarmSQP:
         except RuntimeError:   # not successful (error_on_fail), or an error inside the solver
             return self._not_taken()
         elapsed = time.perf_counter() - t0
-        self.check.evaluate()
+        self._check()
         if self.verdict[6] != 1.0:
             return self._not_taken()
         if self.pending < 0 and self.base is not None:
@@ -99,10 +100,8 @@ class WarmSQP:
             self.iters[t] = count
             self.base = qp if self.every_other else None
         # accepted: kept for the failure ladder, and shifted by one step into the next guess
-        nu, m, n, z0, z = self.nu, self.m, self.n, self.z0, self.z
-        self.good[:] = z
-        z0[: nu - m], z0[nu - m:nu] = z[m:nu], z[nu - m:nu]
-        z0[nu:-n], z0[-n:] = z[nu + n:], z[-n:]
+        self.good[:] = self.z
+        self.z0[:] = self.shifted
         return elapsed
 
     def _count(self, t: int, count: int) -> None:
