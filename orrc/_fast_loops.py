@@ -102,19 +102,18 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         # f(x_t, u_t, w_t) read where an accepted warm step leaves them: x_t and w_t (the preview's first row)
         # in the solver's parameters, u_t in its answer (no copies)
         f = Buffered(step.__self__.function, args=[warm.p[:n], z[:m], warm.p[n:2 * n]])
-        fout = f.res[0]
+        fout, feval = f.res[0], f._evaluate
     synced, kept = False, -1   # the guess in the buffer is this step's; the accepted step not yet handed over
     status, solver, V, has_value, times = rec.status, rec.solver, rec.V, rec.has_value, rec.times
     value = warm.f
-    warm.start(rec.iters)   # the iteration counts (of some steps one solve later: WarmSQP)
+    warm_step, finish = warm.stepper(rec.iters)   # (some steps' iteration counts one solve later: WarmSQP)
     for t in range(T):
-        xt = X_read[t]
         if not synced:
             elapsed = None
         elif cp is None:
-            elapsed = warm.step(xt, wflat[t * n:(t + M) * n], None, t)
+            elapsed = warm_step(t, X[t], wflat[t * n:(t + M) * n])
         else:
-            elapsed = warm.step(xt, wflat[t * n:(t + M) * n], cflat[t * k:(t + M) * k], t)
+            elapsed = warm_step(t, X[t], wflat[t * n:(t + M) * n], cflat[t * k:(t + M) * k])
         if elapsed is None:   # the controller's own step (its failure ladder), from the last accepted plan
             if kept >= 0:
                 ladder.succeeded(kept, warm.plan(X_read[kept], float(V[kept])))
@@ -128,15 +127,17 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         V[t], times[t], status[t], solver[t], has_value[t] = value[0], elapsed, SQP_SOLVED, SQP, True
         kept = t
         U[t] = z[:m]
-        u = U[t]
+        if f is not None:
+            feval()
+            X[t + 1] = fout
+            if per_step_cost:
+                rec.C[t] = rec.stage_cost(X_read[t], U[t], None if cp is None else cp[t])
+            continue
+        xt, u = X_read[t], U[t]
         if per_step_cost:
             rec.C[t] = rec.stage_cost(xt, u, None if cp is None else cp[t])
-        if f is None:
-            X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
-        else:
-            f._evaluate()
-            X[t + 1] = fout
-    warm.finish()
+        X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
+    finish()
     if kept >= 0:
         ladder.succeeded(kept, warm.plan(X_read[kept], float(V[kept])))
 

@@ -57,73 +57,84 @@ class WarmSQP:
         opts = nlp.solver_options[SQP]
         #: success known from error_on_fail, and one QP per iteration: a statistics read every second step
         self.every_other = bool(opts.get("error_on_fail")) and not opts.get("elastic_mode") and not opts.get("so_corr")
-        self.start(np.zeros(0, dtype=int))
-
-    def start(self, iters) -> None:
-        """Record the iteration counts of the accepted steps into ``iters`` (indexed by step)."""
-        self.iters, self.pending, self.base = iters, -1, None   # base: n_call_QP after the last counted solve
 
     def set_guess(self, inputs, states) -> None:
         """The guess of the next solve: ``inputs`` (M, m) and states x̃_0..x̃_M (M+1, n; x̃_0 is replaced by the
         state), as :meth:`ShootingNLP.solve` writes them."""
         self.z0[: self.nu], self.z0[self.nu:] = inputs.reshape(-1), states[1:].reshape(-1)
 
-    def step(self, x, w, P, t: int):
-        """Solve step t from state x with preview w = vec(w_t..w_{t+M-1}) (M n,) and, for a cost sequence,
-        the parameters P = vec(p_t..p_{t+M-1}) of the previewed costs (None: the cost's own), from the guess
-        in the buffer: the seconds the solve took if its answer is accepted (V_M is ``f[0]``, the first input
-        ``z[:m]``, the iteration count in ``iters[t]`` now or, pending, after the next solve or
-        :meth:`finish`, the status :data:`~orrc.solvers.nlp.SQP_SOLVED`; the answer becomes the next guess
-        shifted by one step), else None (the buffer's guess is then unchanged)."""
-        p = self.p
-        p[: self.n], p[self.n:self.nw] = x, w
-        if P is not None:
-            p[self.nw:self.nw + len(P)] = P
-        t0 = time.perf_counter()
-        try:
-            self._evaluate()
-        except RuntimeError:   # not successful (error_on_fail), or an error inside the solver
-            return self._not_taken()
-        elapsed = time.perf_counter() - t0
-        self._check()
-        if self.verdict[6] != 1.0:
-            return self._not_taken()
-        if self.pending < 0 and self.base is not None:
-            self.pending = t   # counted with the next solve's statistics
-        else:
-            stats = self._buffer.stats()
-            if not self.every_other and (self._buffer.ret() or not stats["success"]):
-                return self._not_taken()
-            qp, count = stats["n_call_QP"], stats["iter_count"]
-            if self.pending >= 0:
-                self._count(self.pending, qp - self.base - count)
-            self.iters[t] = count
-            self.base = qp if self.every_other else None
-        # accepted: kept for the failure ladder, and shifted by one step into the next guess
-        self.good[:] = self.z
-        self.z0[:] = self.shifted
-        return elapsed
+    def stepper(self, iters):
+        """The warm step of one closed loop, ``(step, finish)``, recording the iteration counts of the
+        accepted steps into ``iters`` (indexed by step; a pending count, module docstring, is written
+        by the next call of either).
 
-    def _count(self, t: int, count: int) -> None:
-        if count < 0:   # cannot happen with one QP per iteration: a CasADi whose sqpmethod counts otherwise
-            raise RuntimeError(f"WarmSQP: step {t}'s iteration count from n_call_QP is {count} < 0; "
-                               "the solver does not solve one QP per iteration")
-        self.iters[t], self.pending = count, -1
+        ``step(t, x, w, P=None)`` solves step t from state x with preview w = vec(w_t..w_{t+M-1}) (M n,)
+        and, for a cost sequence, the parameters P = vec(p_t..p_{t+M-1}) of the previewed costs (None: the
+        cost's own), from the guess in the buffer. It returns the seconds the solve took if its answer is
+        accepted (V_M is ``f[0]``, the first input ``z[:m]``, the status
+        :data:`~orrc.solvers.nlp.SQP_SOLVED`; the answer becomes the next guess shifted by one step), else
+        None (the buffer's guess is then unchanged; the failure ladder's solves follow). ``finish()``: the
+        end of the loop."""
+        p, n, nw = self.p, self.n, self.nw
+        solve, check, verdict, shifted = self._evaluate, self._check, self.verdict, self.shifted
+        z, z0, good, read, ret = self.z, self.z0, self.good, self._buffer.stats, self._buffer.ret
+        every_other, clock = self.every_other, time.perf_counter
+        pending, base = -1, None   # the step whose count is not read yet; n_call_QP after the last counted solve
 
-    def _not_taken(self):
-        """None, for a solve not accepted (the failure ladder solves the step again): a pending count read
-        from this solve's statistics first, and from then on none known (the ladder's solves follow)."""
-        if self.pending >= 0:
-            stats = self._buffer.stats()
-            self._count(self.pending, stats["n_call_QP"] - self.base - stats["iter_count"])
-        self.base = None
-        return None
+        def count(t: int, c: int) -> None:
+            if c < 0:   # cannot happen with one QP per iteration: a CasADi whose sqpmethod counts otherwise
+                raise RuntimeError(f"WarmSQP: step {t}'s iteration count from n_call_QP is {c} < 0; "
+                                   "the solver does not solve one QP per iteration")
+            iters[t] = c
 
-    def finish(self) -> None:
-        """Read the count of a pending step (the last solve of the buffer) at the end of the loop."""
-        if self.pending >= 0:
-            self._count(self.pending, self._buffer.stats()["iter_count"])
-        self.base = None
+        def not_taken():
+            nonlocal pending, base
+            if pending >= 0:   # this solve's statistics count the pending step too
+                stats = read()
+                count(pending, stats["n_call_QP"] - base - stats["iter_count"])
+                pending = -1
+            base = None
+            return None
+
+        def step(t: int, x, w, P=None):
+            nonlocal pending, base
+            p[:n], p[n:nw] = x, w
+            if P is not None:
+                p[nw:nw + len(P)] = P
+            t0 = clock()
+            try:
+                solve()
+            except RuntimeError:   # not successful (error_on_fail), or an error inside the solver
+                return not_taken()
+            elapsed = clock() - t0
+            check()
+            if verdict[6] != 1.0:
+                return not_taken()
+            if pending < 0 and base is not None:
+                pending = t   # counted with the next solve's statistics
+            else:
+                stats = read()
+                if not every_other and (ret() or not stats["success"]):
+                    return not_taken()
+                qp, c = stats["n_call_QP"], stats["iter_count"]
+                if pending >= 0:
+                    count(pending, qp - base - c)
+                    pending = -1
+                iters[t] = c
+                base = qp if every_other else None
+            # accepted: kept for the failure ladder, and shifted by one step into the next guess
+            good[:] = z
+            z0[:] = shifted
+            return elapsed
+
+        def finish() -> None:
+            nonlocal pending, base
+            if pending >= 0:   # the last solve of the buffer
+                count(pending, read()["iter_count"])
+                pending = -1
+            base = None
+
+        return step, finish
 
     def plan(self, x, value: float) -> Plan:
         """The :class:`~orrc.solvers.Plan` of the last accepted answer, solved from state x (what the failure
