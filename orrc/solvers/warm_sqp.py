@@ -44,7 +44,8 @@ class WarmSQP:
     def __init__(self, nlp: ShootingNLP, P, theta=None):
         self.nlp = nlp
         M, n, m = self.M, self.n, self.m = nlp.M, nlp.n, nlp.m
-        call, self.check = nlp._call(SQP), nlp._call("acceptance")
+        self.call = call = nlp._call(SQP)
+        self.check = nlp._call("acceptance")
         self._evaluate, self._buffer = call._evaluate, call.buffer
         self.z0, self.p, self.z, self.f = call.args[0], call.args[1], call.res[0], call.res[1]
         self.verdict, self.shifted = self.check.res   # the checks (entry 6: 1 if accepted), z shifted by a step
@@ -75,11 +76,11 @@ class WarmSQP:
         :data:`~orrc.solvers.nlp.SQP_SOLVED`; the answer becomes the next guess shifted by one step), else
         None (the buffer's guess is then unchanged; the failure ladder's solves follow). ``finish()``: the
         end of the loop."""
-        p, n, nw = self.p, self.n, self.nw
+        p, n, nw, call = self.p, self.n, self.nw, self.call
         solve, check, verdict, shifted = self._evaluate, self._check, self.verdict, self.shifted
-        z, z0, good, read, ret = self.z, self.z0, self.good, self._buffer.stats, self._buffer.ret
+        z, z0, good, read, ret = self.z, self.z0, self.good, call.read_stats, self._buffer.ret
         every_other, clock = self.every_other, time.perf_counter
-        pending, base = -1, None   # the step whose count is not read yet; n_call_QP after the last counted solve
+        pending, base = -1, None   # the step whose count is not read yet; (n_call_QP, n_call_nlp_jac_fg) then
 
         def count(t: int, c: int) -> None:
             if c < 0:   # cannot happen with one QP per iteration: a CasADi whose sqpmethod counts otherwise
@@ -89,9 +90,9 @@ class WarmSQP:
 
         def not_taken():
             nonlocal pending, base
-            if pending >= 0:   # this solve's statistics count the pending step too
+            if pending >= 0:   # this solve's statistics count the pending step too (iter_count -1: no iteration)
                 stats = read()
-                count(pending, stats["n_call_QP"] - base - stats["iter_count"])
+                count(pending, stats["n_call_QP"] - base[0] - max(stats["iter_count"], 0))
                 pending = -1
             base = None
             return None
@@ -110,18 +111,23 @@ class WarmSQP:
             check()
             if verdict[6] != 1.0:
                 return not_taken()
-            if pending < 0 and base is not None:
+            if pending < 0 and base is not None and call.counts_accumulate:
                 pending = t   # counted with the next solve's statistics
             else:
                 stats = read()
                 if not every_other and (ret() or not stats["success"]):
                     return not_taken()
-                qp, c = stats["n_call_QP"], stats["iter_count"]
-                if pending >= 0:
-                    count(pending, qp - base - c)
+                qp, jac, c = stats["n_call_QP"], stats["n_call_nlp_jac_fg"], stats["iter_count"]
+                if pending >= 0:   # two converged solves: c + 1 and the pending count + 1 Jacobians
+                    if (jac - base[1]) - (qp - base[0]) != 2:
+                        raise RuntimeError(f"WarmSQP: the solver's counters at step {t} do not add up "
+                                           "(n_call_nlp_jac_fg against n_call_QP over two solves)")
+                    count(pending, qp - base[0] - c)
                     pending = -1
+                elif base is not None and call.counts_accumulate is None:   # the first two reads in a row
+                    call.counts_accumulate = qp - base[0] == c and jac - base[1] == c + 1
                 iters[t] = c
-                base = qp if every_other else None
+                base = (qp, jac) if every_other else None
             # accepted: kept for the failure ladder, and shifted by one step into the next guess
             good[:] = z
             z0[:] = shifted
