@@ -36,7 +36,8 @@ solve is accepted only if, in addition,
    how much lower than the optimum an SQP point that violates the dynamics by ‖g‖_∞ can be).
 
 A solve that fails either check is reported failed (status ``"rejected: ..."``), like one that
-did not converge; the controller's failure ladder then tries its next rung (IPOPT).
+did not converge; the controller's failure ladder then tries its next rung (IPOPT). Both checks are
+one compiled CasADi function of the answer where the solver left it (:mod:`orrc.solvers.acceptance`).
 
 The solver only reports: a failed solve returns a :class:`~orrc.solvers.Plan` with
 ``success=False`` and the solver's status, holding the last iterate. What is then applied
@@ -47,6 +48,10 @@ The solver only reports: a failed solve returns a :class:`~orrc.solvers.Plan` wi
 prefix removed; e.g. ``{"sqpmethod.max_iter": 20}``, ``{"sqpmethod.qpsol": "osqp"}``), keys that
 start with ``"ipopt."`` to IPOPT (CasADi's own syntax, e.g. ``{"ipopt.max_iter": 100}``), and other
 keys (options of every CasADi ``nlpsol``, e.g. ``"print_time"``) to each solver that is built.
+Two of SQP's defaults serve the closed loop's speed and change no answer: ``error_on_fail`` (an
+unsuccessful solve raises, so a successful one is known without reading the solver's statistics;
+:meth:`ShootingNLP.solve` reads an unsuccessful one as before) and no multipliers of the parameters
+(``calc_lam_p`` off: nothing here uses them, and each solve saves a gradient evaluation).
 """
 from __future__ import annotations
 
@@ -62,6 +67,7 @@ from .._casadi import Buffered, DropsBuffers, buffered
 from .._validate import OrrcValueError, check_size
 from ..systems import System
 from ..costs import StageCost
+from .acceptance import ACCEPT_ATOL, ACCEPT_RTOL, acceptance_function, rejection  # noqa: F401  (importable here)
 from .plan import Plan, SolverWarning  # noqa: F401  (SolverWarning: importable here, as before)
 
 #: operations per node of the transcribed expression graph (build and IPOPT set-up), measured
@@ -113,8 +119,6 @@ UNSUCCESSFUL = "nlpsol process failed"
 SQP_SOLVED = "Solve_Succeeded"
 _NEEDS_NLP_GRAD = ("calc_lam_p", "calc_lam_x", "calc_f", "calc_g")
 
-#: the acceptance checks of an SQP answer (module docstring): relative and absolute slack
-ACCEPT_RTOL, ACCEPT_ATOL = 1e-8, 1e-12
 
 
 def _split_options(solver_options: dict | None, solvers) -> tuple[dict, list]:
@@ -238,7 +242,7 @@ class ShootingNLP(DropsBuffers):
             nu = M * m   # the guess of the next step: z shifted by one step (its last input and state kept)
             shift = [*range(m, nu), *range(nu - m, nu), *range(nu + n, nu + M * n),
                      *range(nu + (M - 1) * n, nu + M * n)]
-            self._acceptance = _acceptance_function(z, problem["g"], p, ca.vec(U), J_roll, ca.vertcat(*X_roll),
+            self._acceptance = acceptance_function(z, problem["g"], p, ca.vec(U), J_roll, ca.vertcat(*X_roll),
                                                     self.lbz, self.ubz, state_bounds is not None, shift)
         self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
         self._cold_U = np.clip(np.zeros((M, m)), *self.input_bounds)
@@ -258,7 +262,7 @@ class ShootingNLP(DropsBuffers):
         return buffered(self, name, lambda: self._nlpsol[name], None, None, self.lbz, self.ubz, 0.0, 0.0, 0.0, 0.0)
 
     def _acceptance_inputs(self) -> list:
-        """The inputs of the acceptance function (:func:`_acceptance_function`: z, g, λ_x, λ_g, p, the guess's
+        """The inputs of the acceptance function (:func:`acceptance_function`: z, g, λ_x, λ_g, p, the guess's
         inputs, J) as views of this thread's SQP buffer: the solver's results, its parameters and the inputs of
         its initial guess, where the solver left them."""
         sqp = self._call(SQP)
@@ -349,7 +353,7 @@ class ShootingNLP(DropsBuffers):
     def _rejection(self, res, z, value, p, guess_U, extra, in_place: bool = False) -> str | None:
         """Why a converged SQP answer is not accepted (the checks of the module docstring), or None.
         ``res``: the solver's outputs (x, f, g, lam_x, lam_g, lam_p). The quantities of both checks come
-        from one compiled CasADi function (:func:`_acceptance_function`); ``in_place``: the answer is in
+        from one compiled CasADi function (:func:`acceptance_function`); ``in_place``: the answer is in
         the SQP buffer (:meth:`solve`), whose arrays the function reads without a copy."""
         if in_place:   # the solver's own buffers: the checks read its answer, p and the guess where they are
             check = self._call("acceptance")
@@ -360,65 +364,3 @@ class ShootingNLP(DropsBuffers):
         quantities = check.res[0].tolist()
         extra["complementarity"], extra["guess_cost"] = quantities[0], quantities[1]
         return rejection(quantities, value)
-
-
-def rejection(quantities, value: float) -> str | None:
-    """Why a converged SQP answer of objective ``value`` is not accepted, or None: the checks of the module
-    docstring on ``quantities``, the outputs of :func:`_acceptance_function` (as a list)."""
-    complementarity, J_guess, rollout_ok, lam_g_1, g_inf = quantities[:5]
-    if not complementarity <= ACCEPT_RTOL * abs(value) + ACCEPT_ATOL:
-        return (f"bound multipliers not complementary (Σ λ·gap = {complementarity:.3g} > "
-                f"{ACCEPT_RTOL:g}·|J| with J = {value:.6g})")
-    if not rollout_ok == 1.0:
-        return None  # the guess's rollout overflows or leaves the state bounds: no feasible comparison point
-    slack = ACCEPT_RTOL * abs(J_guess) + lam_g_1 * g_inf
-    if value > J_guess + slack + ACCEPT_ATOL:
-        return (f"objective {value:.8g} above the cost {J_guess:.8g} of the initial guess's inputs "
-                "(a feasible point): SQP stopped at a worse stationary point")
-    return None
-
-
-def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bool, shift) -> ca.Function:
-    """The quantities of the SQP acceptance checks (module docstring) as one CasADi function of the
-    solver's answer, its multipliers, the parameters, the guess's inputs and the answer's objective J:
-    (z, g, λ_x, λ_g, p, vec U_guess, J) -> ([Σ_i λ⁺_i (ub_i − z_i) + λ⁻_i (z_i − lb_i), J_g (the cost of the
-    guess's inputs rolled out), 1 if that rollout is finite (and within the state bounds) else 0,
-    ‖λ_g‖₁, ‖g‖_∞, 1 if z is finite else 0, 1 if the answer is accepted else 0], z[shift]: the guess of
-    the next step, the answer shifted by one step, for the warm loop to copy when it accepts). The verdict
-    of :func:`rejection` on the others and J finite, computed with the same floating-point operations
-    in the same order (so the same verdict). A multiplier on an absent (infinite) bound makes the first
-    one infinite. (Finiteness: |Σ x| < inf; CasADi simplifies x * 0 to 0.)"""
-    zs, gs, lam_x, lam_g = (ca.SX.sym(name, v.numel()) for name, v in (("z", z), ("g", g), ("lam_x", z),
-                                                                       ("lam_g", g)))
-    lb, ub = ca.DM(lbz), ca.DM(ubz)
-    terms = []   # λ_i's term, by the bounds z_i has (the same value as the general form for a finite z)
-    for i in range(z.numel()):
-        lam, zi, lo, hi = lam_x[i], zs[i], float(lbz[i]), float(ubz[i])
-        if math.isinf(lo) and math.isinf(hi):   # no bound: any multiplier is infinitely wrong
-            terms.append(ca.if_else(lam != 0, ca.fabs(lam) * math.inf, 0))
-        elif math.isinf(lo) or math.isinf(hi):
-            terms.append(ca.fabs(lam) * ca.if_else(lam != 0, ca.if_else(lam > 0, hi - zi, zi - lo), 0))
-        else:   # two finite bounds: the gap is finite, and λ = 0 adds 0
-            terms.append(ca.fabs(lam) * ca.if_else(lam > 0, hi - zi, zi - lo))
-    complementarity = ca.sum1(ca.vertcat(*terms))
-    roll = ca.Function("guess_rollout", [p, U], [J_roll, X_roll])
-    ps, Us, J = ca.SX.sym("p", p.numel()), ca.SX.sym("U", U.numel()), ca.SX.sym("J")
-
-    def finite(v):   # the sum is finite (as solve() tests the answer: isfinite(z.sum()))
-        return ca.fabs(ca.sum1(v)) < ca.inf
-
-    J_g, X_g = roll(ps, Us)
-    rollout_ok = ca.logic_and(finite(J_g), finite(X_g))
-    if state_bounded:
-        n_u = U.numel()
-        rollout_ok = ca.logic_and(rollout_ok, ca.logic_and(ca.mmin(X_g - lb[n_u:]) >= 0,
-                                                           ca.mmin(ub[n_u:] - X_g) >= 0))
-    lam_g_1, g_inf = ca.sum1(ca.fabs(lam_g)), (ca.mmax(ca.fabs(gs)) if g.numel() else ca.SX(0))
-    # rejection(): complementary multipliers, and J not above the guess's cost where its rollout is usable
-    slack = ACCEPT_RTOL * ca.fabs(J_g) + lam_g_1 * g_inf
-    not_worse = ca.logic_or(ca.logic_not(rollout_ok), ca.logic_not(J > J_g + slack + ACCEPT_ATOL))
-    accepted = ca.logic_and(ca.logic_and(finite(J), finite(zs)),
-                            ca.logic_and(complementarity <= ACCEPT_RTOL * ca.fabs(J) + ACCEPT_ATOL, not_worse))
-    out = ca.vertcat(complementarity, J_g, ca.if_else(rollout_ok, 1, 0), lam_g_1, g_inf,
-                     ca.if_else(finite(zs), 1, 0), ca.if_else(accepted, 1, 0))
-    return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, Us, J], [ca.cse(out), zs[shift]])
