@@ -50,16 +50,22 @@ def acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: boo
     zs, gs, lam_x, lam_g = (ca.SX.sym(name, v.numel()) for name, v in (("z", z), ("g", g), ("lam_x", z),
                                                                        ("lam_g", g)))
     lb, ub = ca.DM(lbz), ca.DM(ubz)
-    terms = []   # λ_i's term, by the bounds z_i has (the same value as the general form for a finite z)
+    # λ_i's term by the bounds z_i has: the general form's value wherever z is finite (an infinite z is
+    # rejected anyway). Entries without bounds, whose every multiplier is infinitely wrong, are one group:
+    # their terms are 0 or inf (NaN with a NaN λ), and so is the group's, added last.
+    terms, free = [], []
     for i in range(z.numel()):
         lam, zi, lo, hi = lam_x[i], zs[i], float(lbz[i]), float(ubz[i])
-        if math.isinf(lo) and math.isinf(hi):   # no bound: any multiplier is infinitely wrong
-            terms.append(ca.if_else(lam != 0, ca.fabs(lam) * math.inf, 0))
+        if math.isinf(lo) and math.isinf(hi):
+            free.append(ca.fabs(lam))
         elif math.isinf(lo) or math.isinf(hi):
             terms.append(ca.fabs(lam) * ca.if_else(lam != 0, ca.if_else(lam > 0, hi - zi, zi - lo), 0))
         else:   # two finite bounds: the gap is finite, and λ = 0 adds 0
             terms.append(ca.fabs(lam) * ca.if_else(lam > 0, hi - zi, zi - lo))
-    complementarity = ca.sum1(ca.vertcat(*terms))
+    complementarity = ca.sum1(ca.vertcat(*terms)) if terms else ca.SX(0)
+    if free:
+        lam_free = ca.sum1(ca.vertcat(*free))
+        complementarity = complementarity + ca.if_else(lam_free != 0, lam_free * math.inf, 0)
     roll = ca.Function("guess_rollout", [p, U], [J_roll, X_roll])
     ps, Us, J = ca.SX.sym("p", p.numel()), ca.SX.sym("U", U.numel()), ca.SX.sym("J")
 
