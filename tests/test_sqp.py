@@ -135,18 +135,22 @@ def test_an_sqp_answer_worse_than_its_initial_guess_is_rejected_and_ipopt_takes_
         assert rescued.value == pytest.approx(800.598, abs=1e-3)
 
 
-def test_bound_multipliers_on_the_wrong_side_are_rejected():
-    """The complementarity check, on a fabricated answer: a multiplier pushing against an inactive
-    bound (or an absent one) is no KKT point, whatever sqpmethod's stationarity test says."""
+def _pendulum_answer():
+    """An SQP answer of the pendulum at M = 5 from (0.3, 0): (the NLP, its plan, z, p)."""
     ex = orrc.examples.inverted_pendulum()
-    rhc = orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds, solver="sqp")
-    nlp = rhc._nlp
+    nlp = orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds, solver="sqp")._nlp
     x, W = np.array([0.3, 0.0]), np.zeros((5, 2))
     P = np.broadcast_to(ex.cost.default_params, (5, ex.cost.n_params))
     plan = nlp.solve(x, W, P)
+    return nlp, plan, np.concatenate([plan.inputs.ravel(), plan.states[1:].ravel()]), \
+        np.concatenate([x, W.ravel(), P.ravel()])
+
+
+def test_bound_multipliers_on_the_wrong_side_are_rejected():
+    """The complementarity check, on a fabricated answer: a multiplier pushing against an inactive
+    bound (or an absent one) is no KKT point, whatever sqpmethod's stationarity test says."""
+    nlp, plan, z, p = _pendulum_answer()
     assert plan.success and plan.extra["complementarity"] <= 1e-12
-    z = np.concatenate([plan.inputs.ravel(), plan.states[1:].ravel()])
-    p = np.concatenate([x, W.ravel(), P.ravel()])
     res = [z, np.array([plan.value]), np.zeros(10), plan.extra["lam_x"].copy(), plan.extra["lam_g"], None]
     assert nlp._rejection(res, z, plan.value, p, plan.inputs, {}) is None
     res[3][4] = 1.0  # u_4 is inside (-20, 20): a multiplier on its upper bound is wrong
@@ -285,14 +289,7 @@ def test_the_compiled_verdict_is_the_acceptance_checks_own():
     """The warm loop accepts an answer on the verdict of the compiled acceptance function; it is that of
     rejection() on the same quantities, with J and z finite (a non-finite z is caught: CasADi would
     simplify the x * 0 of a naive finiteness test to 0)."""
-    ex = orrc.examples.inverted_pendulum()
-    rhc = orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds, solver="sqp")
-    nlp = rhc._nlp
-    x, W = np.array([0.3, 0.0]), np.zeros((5, 2))
-    P = np.broadcast_to(ex.cost.default_params, (5, ex.cost.n_params))
-    plan = nlp.solve(x, W, P)
-    z = np.concatenate([plan.inputs.ravel(), plan.states[1:].ravel()])
-    p = np.concatenate([x, W.ravel(), P.ravel()])
+    nlp, plan, z, p = _pendulum_answer()
     check = nlp._call("acceptance-copy")
     cases = []
     for change in ("none", "wrong-side multiplier", "multiplier on no bound", "worse than the guess", "NaN state"):
