@@ -2,10 +2,11 @@
 
 At each step of a closed loop on the NLP path (:class:`~orrc.PreviewRHC`, the SQP solver first), the
 common case is one SQP solve from the previous plan shifted by one step, which converges and passes the
-acceptance checks of :mod:`orrc.solvers.nlp`. :class:`WarmSQP` runs exactly that solve without
-building a :class:`~orrc.solvers.Plan`: the shifted guess is written into the solver's input buffer
-straight from its output buffer, the state and preview into its parameters, and the acceptance checks
-read the answer where the solver left it (one compiled CasADi function). What it decides is what
+acceptance checks of :mod:`orrc.solvers.acceptance`. :class:`WarmSQP` runs exactly that solve without
+building a :class:`~orrc.solvers.Plan`: the state and preview are written into the solver's parameters,
+and one compiled CasADi function reads the answer where the solver left it and gives the checks'
+verdict and the next guess (the answer shifted by one step), copied into the solver's input buffer
+when the answer is accepted. What it decides is what
 :meth:`ShootingNLP.solve <orrc.solvers.nlp.ShootingNLP.solve>` decides on the same guess: a step it
 does not accept (no convergence, an error, a non-finite answer, a rejected answer) is left to the
 controller's failure ladder, which solves it again from the same guess and climbs its rungs.
@@ -24,7 +25,11 @@ second accepted step and both counts come out of that one read, exactly:
   memory; not so with its ``elastic_mode`` or ``so_corr`` options, which then get a read per step): the
   statistics after solves a and b give b's count (``iter_count``) and a's as the growth of ``n_call_QP``
   since the read before a, less b's count. A step whose count is not read yet is *pending*; the next
-  solve of the buffer (accepted or not) or the end of the loop reads it.
+  solve of the buffer (accepted or not) or the end of the loop reads it. The counters accumulate over
+  a buffer's solves because ``FunctionBuffer`` evaluates without resetting them (a ``Function`` call
+  resets them): a buffer's first two reads in a row check that (and that ``n_call_nlp_jac_fg`` grew by
+  the count + 1) before any count is deferred (``Buffered.counts_accumulate``; else a read per step),
+  and every read that splits two counts checks that the Jacobians add up (iterations + 1 per solve).
 """
 from __future__ import annotations
 
