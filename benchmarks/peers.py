@@ -14,7 +14,7 @@ run in closed loop for T = 200 steps from (0.5, 0) under a disturbance drawn fro
   Python API), each in its own virtual environment built from ``benchmarks/requirements-peers.txt``
   (``tests/fresh_env.py``; a peer that cannot be installed is skipped with the reason);
 * python-control's ``solve_ocp`` (SLSQP), one cold step at states of the closed loop (a whole loop
-  would take minutes): per step.
+  would take minutes), one per round between orrc's runs: per step.
 
 Every tool gets one BLAS thread (threadpoolctl here; the environment variables of
 ``common.ONE_THREAD_ENV`` in a child process, which reports its own pools). Times are CPU time
@@ -167,8 +167,10 @@ def _check(name: str, ref_J: float, ref_X, x0, U, W):
     return gap, dx
 
 
-def run(T: int = 200, M: int = 20, reps: int = 7, reps_control: int = 3, peers=("dompc", "acados")) -> list[Row]:
-    """Run the benchmark; raises :class:`CheckFailed` if a tool's closed loop is not orrc's."""
+def run(T: int = 200, M: int = 20, reps: int = 7, reps_control: int = 6, peers=("dompc", "acados")) -> list[Row]:
+    """Run the benchmark; raises :class:`CheckFailed` if a tool's closed loop is not orrc's. python-control's
+    ``reps_control`` cold steps, at the states t = 0, T/4, T/2 of orrc's loop in turn (two at each by
+    default), are timed one per round, interleaved with orrc's runs like the bare loops."""
     ex = orrc.examples.inverted_pendulum(dt=pendulum.DT, g_over_l=pendulum.G_OVER_L, friction=pendulum.FRICTION,
                                          u_max=pendulum.U_MAX)
     prob = problem(T, M)
@@ -176,13 +178,22 @@ def run(T: int = 200, M: int = 20, reps: int = 7, reps_control: int = 3, peers=(
     rhc = orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds)
     bare = BareCasadiLoop(rhc)
     times = {"orrc": [], "bare": [], "status": []}
-    for _ in range(reps):  # interleaved: a load change hits both alike
-        traj, c, t = cpu_and_wall(orrc.simulate, ex.system, rhc, x0, w, T)
-        times["orrc"].append((c, t))
-        (Xb, Ub), c, t = cpu_and_wall(bare, x0, w, T)
-        times["bare"].append((c, t))
-        _, c, t = cpu_and_wall(bare, x0, w, T, read_status=True)
-        times["status"].append((c, t))
+    control_at = [(0, T // 4, T // 2)[i % 3] for i in range(max(1, reps_control))]
+    c_cpu, c_wall, c_out = [], [], []
+    for i in range(max(reps, len(control_at))):  # interleaved: a load change hits every tool alike
+        if i < reps:
+            traj, c, t = cpu_and_wall(orrc.simulate, ex.system, rhc, x0, w, T)
+            times["orrc"].append((c, t))
+            (Xb, Ub), c, t = cpu_and_wall(bare, x0, w, T)
+            times["bare"].append((c, t))
+            _, c, t = cpu_and_wall(bare, x0, w, T, read_status=True)
+            times["status"].append((c, t))
+        if i < len(control_at):   # python-control: one cold step at a state of orrc's closed loop
+            t = control_at[i]
+            out, c, wall = cpu_and_wall(pendulum.solve_ocp, traj.x[t], traj.w_all[t:t + M], M)
+            c_cpu.append(c)
+            c_wall.append(wall)
+            c_out.append((t, out))
     if traj.n_failures or set(traj.solver) != {"sqp"}:
         raise CheckFailed(f"orrc's closed loop had failed steps or steps not solved by SQP: {traj.solver_counts}")
     X_ref, J_ref = closed_loop_cost(x0, traj.u, w[:T])
@@ -223,18 +234,14 @@ def run(T: int = 200, M: int = 20, reps: int = 7, reps_control: int = 3, peers=(
                         "orrc faster (CPU)" if target else "—", (o_cpu < p_cpu) if target else None,
                         f"{label}'s BLAS threads: {report['threads']}; rel. gap {gap:+.1e}, states {dx:.0e}",
                         dict(t_peer=p_cpu, t_peer_wall=p_wall, t_orrc=o_cpu, speedup=p_cpu / o_cpu, gap=gap)))
-    # python-control: one cold step at states of orrc's closed loop (the same M-step problem)
-    steps = [0, T // 4, T // 2][:max(1, reps_control)]
-    c_cpu, c_wall = [], []
-    for t in steps:
+    # python-control: the same M-step problem as orrc's at those states (its optimum checked outside the timing)
+    steps = sorted(set(control_at))
+    for t, (U_ct, res) in c_out:
         Wt = traj.w_all[t:t + M]
-        (U_ct, res), c, wall = cpu_and_wall(pendulum.solve_ocp, traj.x[t], Wt, M)
         plan = rhc.plan(traj.x[t], Wt)
         J_ct, J_o = pendulum.rollout(traj.x[t], U_ct, Wt)[1], pendulum.rollout(traj.x[t], plan.inputs, Wt)[1]
         if not res.success or abs(J_ct - J_o) > pendulum.VALUE_RTOL * abs(J_o):
             raise CheckFailed(f"python-control's step at t={t} ({J_ct:.10g}, {res.message}) is not orrc's ({J_o:.10g})")
-        c_cpu.append(c)
-        c_wall.append(wall)
     ct_cpu, ct_wall = float(np.median(c_cpu)), float(np.median(c_wall))
     import control
     rows.append(Row(bench, f"orrc.simulate vs python-control {control.__version__} solve_ocp (cold step)",

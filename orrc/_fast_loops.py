@@ -12,8 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._casadi import buffered
+from ._casadi import Buffered
 from ._validate import OrrcValueError
+from .solvers.nlp import SQP, SQP_SOLVED
 from .systems import NonlinearSystem
 from .trajectory import Record, windows
 
@@ -96,46 +97,49 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         k = cp.shape[1]
         cflat = np.ascontiguousarray(cp).reshape(-1)
     per_step_cost = not rec.quadratic
-    f = None  # the plant on its own buffers when it is a NonlinearSystem's own step (as its _step evaluates)
+    f = None  # the plant on the solver's buffers when it is a NonlinearSystem's own step (as its _step evaluates)
     if step is not None and getattr(step, "__func__", None) is NonlinearSystem._step:
-        system = step.__self__
-        f = buffered(system, "f", lambda: system.function)
-        fx, fu, fw, fout = f.args[0], f.args[1], f.args[2], f.res[0]
-    synced, kept = False, None   # the guess in the buffer is this step's; the accepted step not yet handed over
-    status, solver, V, has_value, iters, times = rec.status, rec.solver, rec.V, rec.has_value, rec.iters, rec.times
+        # f(x_t, u_t, w_t) read where an accepted warm step leaves them: x_t and w_t (the preview's first row)
+        # in the solver's parameters, u_t in its answer (no copies)
+        f = Buffered(step.__self__.function, args=[warm.p[:n], z[:m], warm.p[n:2 * n]])
+        fout, feval = f.res[0], f._evaluate
+    synced, kept = False, -1   # the guess in the buffer is this step's; the accepted step not yet handed over
+    status, solver, V, has_value, times = rec.status, rec.solver, rec.V, rec.has_value, rec.times
+    value = warm.f
+    warm_step, finish = warm.stepper(rec.iters)   # (some steps' iteration counts one solve later: WarmSQP)
     for t in range(T):
-        xt = X_read[t]
         if not synced:
-            out = None
+            elapsed = None
         elif cp is None:
-            out = warm.step(xt, wflat[t * n:(t + M) * n])
+            elapsed = warm_step(t, X[t], wflat[t * n:(t + M) * n])
         else:
-            out = warm.step(xt, wflat[t * n:(t + M) * n], cflat[t * k:(t + M) * k])
-        if out is None:   # the controller's own step (its failure ladder), from the last accepted plan
-            if kept is not None:
-                ladder.succeeded(kept[0], warm.plan(X_read[kept[0]], kept[1]))
-                kept = None
+            elapsed = warm_step(t, X[t], wflat[t * n:(t + M) * n], cflat[t * k:(t + M) * k])
+        if elapsed is None:   # the controller's own step (its failure ladder), from the last accepted plan
+            if kept >= 0:
+                ladder.succeeded(kept, warm.plan(X_read[kept], float(V[kept])))
+                kept = -1
             general_step(t)
             shifted = ladder.warm_start(t + 1)
             synced = shifted is not None and shifted[2] == 1 and rec.ok[t]
             if synced:
                 warm.set_guess(shifted[0], shifted[1])
             continue
-        V[t], status[t], iters[t], times[t] = out
-        has_value[t], solver[t] = True, "sqp"
-        kept = (t, out[0])
+        V[t], times[t], status[t], solver[t], has_value[t] = value[0], elapsed, SQP_SOLVED, SQP, True
+        kept = t
         U[t] = z[:m]
-        u = U[t]
+        if f is not None:
+            feval()
+            X[t + 1] = fout
+            if per_step_cost:
+                rec.C[t] = rec.stage_cost(X_read[t], U[t], None if cp is None else cp[t])
+            continue
+        xt, u = X_read[t], U[t]
         if per_step_cost:
             rec.C[t] = rec.stage_cost(xt, u, None if cp is None else cp[t])
-        if f is None:
-            X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
-        else:
-            fx[:], fu[:], fw[:] = xt, u, wpad[t]
-            f._evaluate()
-            X[t + 1] = fout
-    if kept is not None:
-        ladder.succeeded(kept[0], warm.plan(X_read[kept[0]], kept[1]))
+        X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
+    finish()
+    if kept >= 0:
+        ladder.succeeded(kept, warm.plan(X_read[kept], float(V[kept])))
 
 
 def record_fast_steps(controller, rec: Record) -> None:

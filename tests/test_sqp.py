@@ -135,18 +135,22 @@ def test_an_sqp_answer_worse_than_its_initial_guess_is_rejected_and_ipopt_takes_
         assert rescued.value == pytest.approx(800.598, abs=1e-3)
 
 
-def test_bound_multipliers_on_the_wrong_side_are_rejected():
-    """The complementarity check, on a fabricated answer: a multiplier pushing against an inactive
-    bound (or an absent one) is no KKT point, whatever sqpmethod's stationarity test says."""
+def _pendulum_answer():
+    """An SQP answer of the pendulum at M = 5 from (0.3, 0): (the NLP, its plan, z, p)."""
     ex = orrc.examples.inverted_pendulum()
-    rhc = orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds, solver="sqp")
-    nlp = rhc._nlp
+    nlp = orrc.PreviewRHC(ex.system, ex.cost, 5, input_bounds=ex.input_bounds, solver="sqp")._nlp
     x, W = np.array([0.3, 0.0]), np.zeros((5, 2))
     P = np.broadcast_to(ex.cost.default_params, (5, ex.cost.n_params))
     plan = nlp.solve(x, W, P)
+    return nlp, plan, np.concatenate([plan.inputs.ravel(), plan.states[1:].ravel()]), \
+        np.concatenate([x, W.ravel(), P.ravel()])
+
+
+def test_bound_multipliers_on_the_wrong_side_are_rejected():
+    """The complementarity check, on a fabricated answer: a multiplier pushing against an inactive
+    bound (or an absent one) is no KKT point, whatever sqpmethod's stationarity test says."""
+    nlp, plan, z, p = _pendulum_answer()
     assert plan.success and plan.extra["complementarity"] <= 1e-12
-    z = np.concatenate([plan.inputs.ravel(), plan.states[1:].ravel()])
-    p = np.concatenate([x, W.ravel(), P.ravel()])
     res = [z, np.array([plan.value]), np.zeros(10), plan.extra["lam_x"].copy(), plan.extra["lam_g"], None]
     assert nlp._rejection(res, z, plan.value, p, plan.inputs, {}) is None
     res[3][4] = 1.0  # u_4 is inside (-20, 20): a multiplier on its upper bound is wrong
@@ -228,3 +232,80 @@ def test_a_controller_that_stops_inside_the_warm_sqp_loop_hands_back_the_same_ru
         stopped.append(err.value)
     assert stopped[0].step == stopped[1].step > 1, "the controller stops at the same step, after warm steps"
     _same_runs(stopped[0].trajectory, stopped[1].trajectory)
+
+
+@pytest.mark.parametrize("read", ["every second step", "every step (error_on_fail off)",
+                                  "every step (counters not accumulating)"])
+def test_the_recorded_iteration_counts_are_the_solvers_whichever_way_they_are_read(read):
+    """The warm loop reads the solver's statistics at every second accepted step and splits n_call_QP
+    between the two solves (one QP per SQP iteration; orrc.solvers.warm_sqp), once it has seen that the
+    buffer's counters accumulate; with error_on_fail off, or counters that do not accumulate, it reads
+    them at every step. Each way, with failed steps among the accepted ones, the run (iteration counts and
+    statuses included) is the one control() makes, which reads the statistics of every solve."""
+    ex = orrc.examples.inverted_pendulum()
+    w = 30 * orrc.disturbances.uniform_ball(80, 2, radius=0.02, seed=0)
+    opts = {"sqpmethod.max_iter": 3}
+    if read.startswith("every step (error"):
+        opts["sqpmethod.error_on_fail"] = False
+    runs = []
+    for general in (False, True):
+        rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=(-1, 1), max_failures=None, solver="sqp",
+                              solver_options=opts)
+        buffer = rhc._nlp._call("sqp")
+        if general:
+            rhc.control = rhc.control
+        elif read.endswith("not accumulating)"):
+            buffer.counts_accumulate = False   # as a CasADi whose buffer resets its counters would be found
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", orrc.SolverWarning)
+            runs.append(orrc.simulate(ex.system, rhc, np.array([2.0, 0.0]), w, 40))
+        if not general:
+            assert buffer.counts_accumulate is {"every second step": True, "every step (error_on_fail off)": None,
+                                                "every step (counters not accumulating)": False}[read]
+    _same_runs(*runs)
+    fast = runs[0]
+    assert 0 < fast.n_failures < 30 and fast.iterations[fast.success].min() >= 1, fast.n_failures
+
+
+def test_an_unsuccessful_sqp_solve_reads_the_same_with_error_on_fail():
+    """orrc's SQP solver raises on an unsuccessful solve (error_on_fail, so that the closed loop knows a
+    success without the statistics); ShootingNLP.solve reports such a solve as it did without the option:
+    its status, iterations and last iterate."""
+    ex = orrc.examples.inverted_pendulum()
+    x, W = np.array([1.0, 0.0]), np.zeros((10, 2))
+    P = np.broadcast_to(ex.cost.default_params, (10, ex.cost.n_params))
+    plans = []
+    for raises in (True, False):
+        rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds, solver="sqp",
+                              solver_options={"sqpmethod.max_iter": 1, "sqpmethod.error_on_fail": raises})
+        assert rhc._nlp.solver_options["sqp"]["error_on_fail"] is raises
+        plans.append(rhc._nlp.solve(x, W, P))
+    a, b = plans
+    assert not a.success and a.status == b.status == "Maximum_Iterations_Exceeded" and a.iterations == 1
+    assert np.array_equal(a.inputs, b.inputs) and a.value == b.value and np.isfinite(a.value)
+
+
+def test_the_compiled_verdict_is_the_acceptance_checks_own():
+    """The warm loop accepts an answer on the verdict of the compiled acceptance function; it is that of
+    rejection() on the same quantities, with J and z finite (a non-finite z is caught: CasADi would
+    simplify the x * 0 of a naive finiteness test to 0)."""
+    nlp, plan, z, p = _pendulum_answer()
+    check = nlp._call("acceptance-copy")
+    cases = []
+    for change in ("none", "wrong-side multiplier", "multiplier on no bound", "worse than the guess", "NaN state"):
+        zc, lam_x, value = z.copy(), plan.extra["lam_x"].copy(), plan.value
+        if change == "wrong-side multiplier":
+            lam_x[4] = 1.0
+        elif change == "multiplier on no bound":
+            lam_x[7] = -1.0
+        elif change == "worse than the guess":
+            value = 10 * plan.value + 1.0
+        elif change == "NaN state":
+            zc[-1] = np.nan
+        res = [zc, np.array([value]), np.zeros(10), lam_x, plan.extra["lam_g"], None]
+        reason = nlp._rejection(res, zc, value, p, plan.inputs, {})
+        q = check.res[0]
+        assert q[6] == float(reason is None and np.isfinite(value) and q[5] == 1.0), change
+        assert q[5] == float(change != "NaN state"), change
+        cases.append(q[6])
+    assert cases == [1.0, 0.0, 0.0, 0.0, 0.0]

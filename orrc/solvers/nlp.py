@@ -36,7 +36,8 @@ solve is accepted only if, in addition,
    how much lower than the optimum an SQP point that violates the dynamics by ‖g‖_∞ can be).
 
 A solve that fails either check is reported failed (status ``"rejected: ..."``), like one that
-did not converge; the controller's failure ladder then tries its next rung (IPOPT).
+did not converge; the controller's failure ladder then tries its next rung (IPOPT). Both checks are
+one compiled CasADi function of the answer where the solver left it (:mod:`orrc.solvers.acceptance`).
 
 The solver only reports: a failed solve returns a :class:`~orrc.solvers.Plan` with
 ``success=False`` and the solver's status, holding the last iterate. What is then applied
@@ -47,6 +48,10 @@ The solver only reports: a failed solve returns a :class:`~orrc.solvers.Plan` wi
 prefix removed; e.g. ``{"sqpmethod.max_iter": 20}``, ``{"sqpmethod.qpsol": "osqp"}``), keys that
 start with ``"ipopt."`` to IPOPT (CasADi's own syntax, e.g. ``{"ipopt.max_iter": 100}``), and other
 keys (options of every CasADi ``nlpsol``, e.g. ``"print_time"``) to each solver that is built.
+Two of SQP's defaults serve the closed loop's speed and change no answer: ``error_on_fail`` (an
+unsuccessful solve raises, so a successful one is known without reading the solver's statistics;
+:meth:`ShootingNLP.solve` reads an unsuccessful one as before) and no multipliers of the parameters
+(``calc_lam_p`` off: nothing here uses them, and each solve saves a gradient evaluation).
 """
 from __future__ import annotations
 
@@ -62,6 +67,7 @@ from .._casadi import Buffered, DropsBuffers, buffered
 from .._validate import OrrcValueError, check_size
 from ..systems import System
 from ..costs import StageCost
+from .acceptance import ACCEPT_ATOL, ACCEPT_RTOL, acceptance_function, rejection  # noqa: F401  (importable here)
 from .plan import Plan, SolverWarning  # noqa: F401  (SolverWarning: importable here, as before)
 
 #: operations per node of the transcribed expression graph (build and IPOPT set-up), measured
@@ -100,10 +106,19 @@ DEFAULT_SQP = {
     "print_iteration": False,
     "print_status": False,
     "print_time": False,
+    # an unsuccessful solve raises (CasADi's error text: UNSUCCESSFUL), so that a successful one is known
+    # without reading its statistics; its answer and statistics are there as without the option
+    "error_on_fail": True,
+    # no multipliers of the parameters (nothing here uses them): no gradient evaluation after each solve
+    "calc_lam_p": False,
+    "no_nlp_grad": True,
 }
+#: what CasADi raises for an unsuccessful solve with ``error_on_fail`` (the solve itself ran as without it)
+UNSUCCESSFUL = "nlpsol process failed"
+#: the status of every successful ``sqpmethod`` solve (the only one with ``success``)
+SQP_SOLVED = "Solve_Succeeded"
+_NEEDS_NLP_GRAD = ("calc_lam_p", "calc_lam_x", "calc_f", "calc_g")
 
-#: the acceptance checks of an SQP answer (module docstring): relative and absolute slack
-ACCEPT_RTOL, ACCEPT_ATOL = 1e-8, 1e-12
 
 
 def _split_options(solver_options: dict | None, solvers) -> tuple[dict, list]:
@@ -132,6 +147,8 @@ def _split_options(solver_options: dict | None, solvers) -> tuple[dict, list]:
                 opts["qpsol_options"].update(value)
             else:
                 opts[key] = value
+        if s == SQP and any(opts.get(key) for key in _NEEDS_NLP_GRAD):
+            opts["no_nlp_grad"] = False   # the user asked for what the gradient function computes
         out[s] = opts
     return out, unused
 
@@ -222,8 +239,11 @@ class ShootingNLP(DropsBuffers):
         self.ubz = np.concatenate([np.tile(uhi, M), np.tile(xhi, M)])
         if SQP in self.solvers:
             self._rollout = ca.Function("rollout", [p, ca.vec(U)], [J_roll, ca.vertcat(*X_roll)])
-            self._acceptance = _acceptance_function(z, problem["g"], p, ca.vec(U), J_roll, ca.vertcat(*X_roll),
-                                                    self.lbz, self.ubz, state_bounds is not None)
+            nu = M * m   # the guess of the next step: z shifted by one step (its last input and state kept)
+            shift = [*range(m, nu), *range(nu - m, nu), *range(nu + n, nu + M * n),
+                     *range(nu + (M - 1) * n, nu + M * n)]
+            self._acceptance = acceptance_function(z, problem["g"], p, ca.vec(U), J_roll, ca.vertcat(*X_roll),
+                                                    self.lbz, self.ubz, state_bounds is not None, shift)
         self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
         self._cold_U = np.clip(np.zeros((M, m)), *self.input_bounds)
         self._cold_U.flags.writeable = False
@@ -242,11 +262,12 @@ class ShootingNLP(DropsBuffers):
         return buffered(self, name, lambda: self._nlpsol[name], None, None, self.lbz, self.ubz, 0.0, 0.0, 0.0, 0.0)
 
     def _acceptance_inputs(self) -> list:
-        """The inputs of the acceptance function (:func:`_acceptance_function`: z, g, λ_x, λ_g, p, the guess's
-        inputs) as views of this thread's SQP buffer: the solver's results, its parameters and the inputs of
+        """The inputs of the acceptance function (:func:`acceptance_function`: z, g, λ_x, λ_g, p, the guess's
+        inputs, J) as views of this thread's SQP buffer: the solver's results, its parameters and the inputs of
         its initial guess, where the solver left them."""
         sqp = self._call(SQP)
-        return [sqp.res[0], sqp.res[2], sqp.res[3], sqp.res[4], sqp.args[1], sqp.args[0][: self.M * self.m]]
+        return [sqp.res[0], sqp.res[2], sqp.res[3], sqp.res[4], sqp.args[1], sqp.args[0][: self.M * self.m],
+                sqp.res[1]]
 
     @property
     def solver_name(self) -> str:
@@ -296,7 +317,7 @@ class ShootingNLP(DropsBuffers):
         try:
             error = call()
         except RuntimeError as exc:  # e.g. the QP solver of SQP fails inside CasADi: a failed solve
-            error = exc
+            error = None if UNSUCCESSFUL in str(exc) else exc   # (not converged: read below, as any answer)
         elapsed = time.perf_counter() - t0
         stats = call.stats()
         iterations = int(stats.get("iter_count", 0) or 0)
@@ -332,54 +353,14 @@ class ShootingNLP(DropsBuffers):
     def _rejection(self, res, z, value, p, guess_U, extra, in_place: bool = False) -> str | None:
         """Why a converged SQP answer is not accepted (the checks of the module docstring), or None.
         ``res``: the solver's outputs (x, f, g, lam_x, lam_g, lam_p). The quantities of both checks come
-        from one compiled CasADi function (:func:`_acceptance_function`); ``in_place``: the answer is in
+        from one compiled CasADi function (:func:`acceptance_function`); ``in_place``: the answer is in
         the SQP buffer (:meth:`solve`), whose arrays the function reads without a copy."""
         if in_place:   # the solver's own buffers: the checks read its answer, p and the guess where they are
             check = self._call("acceptance")
             check.evaluate()
         else:
             check = self._call("acceptance-copy")
-            check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1))
+            check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1), value)
         quantities = check.res[0].tolist()
         extra["complementarity"], extra["guess_cost"] = quantities[0], quantities[1]
         return rejection(quantities, value)
-
-
-def rejection(quantities, value: float) -> str | None:
-    """Why a converged SQP answer of objective ``value`` is not accepted, or None: the checks of the module
-    docstring on ``quantities``, the outputs of :func:`_acceptance_function` (as a list)."""
-    complementarity, J_guess, rollout_ok, lam_g_1, g_inf = quantities[:5]
-    if not complementarity <= ACCEPT_RTOL * abs(value) + ACCEPT_ATOL:
-        return (f"bound multipliers not complementary (Σ λ·gap = {complementarity:.3g} > "
-                f"{ACCEPT_RTOL:g}·|J| with J = {value:.6g})")
-    if not rollout_ok == 1.0:
-        return None  # the guess's rollout overflows or leaves the state bounds: no feasible comparison point
-    slack = ACCEPT_RTOL * abs(J_guess) + lam_g_1 * g_inf
-    if value > J_guess + slack + ACCEPT_ATOL:
-        return (f"objective {value:.8g} above the cost {J_guess:.8g} of the initial guess's inputs "
-                "(a feasible point): SQP stopped at a worse stationary point")
-    return None
-
-
-def _acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: bool) -> ca.Function:
-    """The quantities of the SQP acceptance checks (module docstring) as one CasADi function of the
-    solver's answer, its multipliers, the parameters and the guess's inputs:
-    (z, g, λ_x, λ_g, p, vec U_guess) -> [Σ_i λ⁺_i (ub_i − z_i) + λ⁻_i (z_i − lb_i), J_g (the cost of the
-    guess's inputs rolled out), 1 if that rollout is finite (and within the state bounds) else 0,
-    ‖λ_g‖₁, ‖g‖_∞, 1 if z is finite else 0]. A multiplier on an absent (infinite) bound makes the first
-    one infinite."""
-    zs, gs, lam_x, lam_g = (ca.SX.sym(name, v.numel()) for name, v in (("z", z), ("g", g), ("lam_x", z),
-                                                                       ("lam_g", g)))
-    lb, ub = ca.DM(lbz), ca.DM(ubz)
-    gap = ca.if_else(lam_x > 0, ub - zs, zs - lb)
-    complementarity = ca.sum1(ca.fabs(lam_x) * ca.if_else(lam_x != 0, gap, 0))
-    roll = ca.Function("guess_rollout", [p, U], [J_roll, X_roll])
-    ps, Us = ca.SX.sym("p", p.numel()), ca.SX.sym("U", U.numel())
-    J_g, X_g = roll(ps, Us)
-    finite = ca.logic_and(J_g * 0 == 0, ca.sum1(X_g * 0) == 0)   # x * 0 is NaN exactly when x is inf or NaN
-    if state_bounded:
-        n_u = U.numel()
-        finite = ca.logic_and(finite, ca.logic_and(ca.mmin(X_g - lb[n_u:]) >= 0, ca.mmin(ub[n_u:] - X_g) >= 0))
-    out = ca.vertcat(complementarity, J_g, ca.if_else(finite, 1, 0), ca.sum1(ca.fabs(lam_g)),
-                     ca.mmax(ca.fabs(gs)) if g.numel() else 0, ca.if_else(ca.sum1(zs * 0) == 0, 1, 0))
-    return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, Us], [out])
