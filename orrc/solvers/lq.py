@@ -219,7 +219,7 @@ class LQPreviewLaw:
     def input_and_value(self, x, W):
         """(κ_M(x), V_M(x, W)) from one product with the stacked [H; -[K L]].
 
-        The closed-loop hot path of :class:`orrc.PreviewRHC` (see benchmarks/lq_path.py);
+        The closed-loop hot path of :class:`orrc.PreviewRHC`;
         equal to (:meth:`first_input`, :meth:`value`).
         """
         z = np.concatenate((x, W.reshape(-1)))
