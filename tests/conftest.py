@@ -67,9 +67,7 @@ def book():
     leaves it untouched). Used by tests/test_book.py (the HTML) and tests/test_chapters.py
     (the executed notebooks). The build starts when the tests are collected (:func:`_start_book`).
     """
-    if "future" not in _BOOK:
-        _start_book()
-    return _BOOK["future"].result()
+    return book_result()
 
 
 def assert_legible(fig, min_pt: float = 9.0, max_width: float = 7.4):
@@ -198,7 +196,9 @@ FORCED_FAILURE = {"sqpmethod.max_iter": 1, "ipopt.max_iter": 1}
 _GRADING = {}
 
 
-def _start_grading():
+def _start_grading(wanted=frozenset()):
+    """Grade every assignment in the background; then compute the background fixtures in ``wanted``
+    that wait on the gradings (see ``after`` below)."""
     from concurrent.futures import ThreadPoolExecutor
 
     from tools import assignments
@@ -213,7 +213,44 @@ def _start_grading():
         assignments.run_all, BOOK_OUT / "_build" / "assignments",
         extra=lambda n: {p.stem[len(n) + 1:]: p for p in sorted(fixtures.glob(f"{n}_wrong*.md"))},
         python=lambda paths: str(autograder_env(paths["autograder"])))
+    _start_after("graded", set(wanted), pool)
     pool.shutdown(wait=False)
+
+
+# Session fixtures that only wait on the book or on the gradings and take long (the solution-free
+# edition, the downloads in a fresh environment, the documented grading commands) are computed in
+# the background as soon as what they wait on is ready, beside the tests that read the book (the
+# browser's, mostly waiting on one core), instead of one after the other when their tests come.
+# A test module registers one with ``@after("book", "student_book")``: the function takes the
+# book's (or the gradings') result and returns the fixture's value; the fixture returns
+# ``background("student_book")``. Errors are raised where the fixture is used, as before.
+_AFTER = {"book": {}, "graded": {}}
+_BACKGROUND = {}
+
+
+def after(what: str, name: str):
+    """Register ``fn(result of what)`` as the value of the session fixture ``name``, computed in the
+    background once ``what`` ("book" or "graded") is ready (see above)."""
+    def register(fn):
+        _AFTER[what][name] = fn
+        return fn
+    return register
+
+
+def background(name: str):
+    """The value of the background fixture ``name``: its result (waited for), or computed now when
+    it was not started at collection (e.g. a single test run by name)."""
+    if name not in _BACKGROUND:
+        what, fn = next((w, fns[name]) for w, fns in _AFTER.items() if name in fns)
+        return fn(book_result() if what == "book" else graded_result())
+    return _BACKGROUND[name].result()
+
+
+def _start_after(what: str, names: set[str], pool) -> None:
+    wait = book_result if what == "book" else graded_result
+    for name, fn in _AFTER[what].items():
+        if name in names:
+            _BACKGROUND[name] = pool.submit(lambda fn=fn: fn(wait()))
 
 
 def pytest_collection_modifyitems(session, config, items):
@@ -226,18 +263,34 @@ def pytest_collection_modifyitems(session, config, items):
     graded = [it for it in items if needs(it, "graded")]
     on_book = [it for it in items if needs(it, "book") and it not in graded]
     items[:] = [it for it in items if it not in graded and it not in on_book] + on_book + graded
+    wanted = {name for it in items for name in getattr(it, "fixturenames", ())}
     if on_book or graded:
         _start_book()
+        from concurrent.futures import ThreadPoolExecutor
+
+        pool = ThreadPoolExecutor(max_workers=1)    # one at a time: they share the 2 cores with the tests
+        _start_after("book", wanted, pool)
+        pool.shutdown(wait=False)
     if graded:
+        _start_grading(wanted)
+
+
+def book_result():
+    if "future" not in _BOOK:
+        _start_book()
+    return _BOOK["future"].result()
+
+
+def graded_result():
+    if "future" not in _GRADING:
         _start_grading()
+    return {r["name"]: r for r in _GRADING["future"].result()}
 
 
 @pytest.fixture(scope="session")
 def graded():
     """Every assignment built and graded once per session (solution, blank, wrong), by name."""
-    if "future" not in _GRADING:
-        _start_grading()
-    return {r["name"]: r for r in _GRADING["future"].result()}
+    return graded_result()
 
 
 # ---------------------------------------------------------------- the browser (one Chromium per session)

@@ -24,7 +24,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from conftest import BOOK_HTML, ROOT
+from conftest import BOOK_HTML, ROOT, after, background
 from fresh_env import fresh_env, orrc_wheel, with_wheels
 from tools.toc import notebook_pages
 
@@ -94,7 +94,13 @@ def run_download(chapter: str, python: Path, timeout: float = 600) -> dict:
 
 @pytest.fixture(scope="session")
 def downloads_run(book):
-    """Every chapter's download executed in the fresh environment, two at a time: {chapter: result}."""
+    """Every chapter's download executed in the fresh environment, two at a time: {chapter: result}
+    (in the background as soon as the book is built, ``conftest.after``)."""
+    return background("downloads_run")
+
+
+@after("book", "downloads_run")
+def run_the_downloads(book):
     assert book["rc"] == 0, "the book's build failed; its downloads are not there"
     first = nbformat.read(download(CHAPTERS[0]), as_version=4).cells[0].source
     t0 = time.perf_counter()

@@ -12,16 +12,19 @@ quote a hidden test.
 """
 from __future__ import annotations
 
+import atexit
 import csv
 import re
 import shutil
 import subprocess
+import tempfile
 import zipfile
 from pathlib import Path
 
 import nbformat
 import pytest
 
+from conftest import after, background
 from tools import assignments
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -70,9 +73,16 @@ def _class_folder(graded, folder: Path) -> dict[str, str]:
 
 
 @pytest.fixture(scope="module")
-def clone(graded, tmp_path_factory):
-    """A folder laid out like a fresh clone after make assignments, with the documented commands run in it."""
-    here = tmp_path_factory.mktemp("clone")
+def clone(graded):
+    """A folder laid out like a fresh clone after make assignments, with the documented commands run in
+    it (in the background as soon as the gradings are done, ``conftest.after``)."""
+    return background("clone")
+
+
+@after("graded", "clone")
+def run_the_documented_commands(graded):
+    here = Path(tempfile.mkdtemp(prefix="orrc-clone-"))     # outside the repository, removed at exit
+    atexit.register(shutil.rmtree, here, True)
     (here / "_build").mkdir()
     (here / "_build" / "assignments").symlink_to(Path(graded[FIRST]["paths"]["student"]).parents[3])
     (here / ".venv").symlink_to(ROOT / ".venv")

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import BOOK_OUT
+from conftest import BOOK_OUT, after, background
 from tools.build_student import INSTRUCTOR_PAGES, for_students, stripped_copy
 from tools.solutions import parse, strip_solutions
 from tools.toc import notebook_pages, toc_pages
@@ -140,13 +140,19 @@ def _hits(fragments, texts):
 
 # ---------------------------------------------------------------- the builds
 
-@pytest.fixture(scope="session")
-def student_book(book):
-    """The solution-free edition, built once per session (test size), reusing the session's normal build."""
+@after("book", "student_book")
+def build_the_student_edition(book):
     from tools.build_student import build_student
 
     assert book["rc"] == 0, "the normal build failed"
     return build_student(BOOK_OUT, quick=True)
+
+
+@pytest.fixture(scope="session")
+def student_book(book):
+    """The solution-free edition, built once per session (test size), reusing the session's normal
+    build (in the background as soon as the book is built, ``conftest.after``)."""
+    return background("student_book")
 
 
 @pytest.fixture(scope="session")
