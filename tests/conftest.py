@@ -261,7 +261,8 @@ def pytest_collection_modifyitems(session, config, items):
         return name in getattr(item, "fixturenames", ())
 
     graded = [it for it in items if needs(it, "graded")]
-    on_book = [it for it in items if needs(it, "book") and it not in graded]
+    # a test of a background fixture computed after the book waits for it like one that reads the book
+    on_book = [it for it in items if it not in graded and any(needs(it, n) for n in ("book", *_AFTER["book"]))]
     items[:] = [it for it in items if it not in graded and it not in on_book] + on_book + graded
     wanted = {name for it in items for name in getattr(it, "fixturenames", ())}
     if on_book or graded:

@@ -30,6 +30,7 @@ import jupytext
 import nbformat
 import pytest
 
+from conftest import after, background
 from tools.toc import ROOT, notebook_pages
 
 PAGES = notebook_pages()
@@ -191,7 +192,16 @@ def run_reader_notebook(page: str) -> tuple[str, float, str | None]:
 
 @pytest.fixture(scope="session")
 def reader_runs():
-    """Every page's reader notebook, run once per session, two pages at a time."""
+    """Every page's reader notebook, run once per session, two pages at a time (in the background;
+    see :func:`run_the_reader_notebooks`)."""
+    return background("reader_runs")
+
+
+# The reader notebooks need nothing of the book's build; they are started with the jobs that wait on
+# it only to spread the load: the build runs beside the tests that need neither (both cores busy),
+# the browser's tests beside these jobs (the browser leaves one core idle).
+@after("book", "reader_runs")
+def run_the_reader_notebooks(_book):
     t0 = time.perf_counter()
     with ThreadPoolExecutor(max_workers=2) as pool:
         runs = {page: (seconds, error) for page, seconds, error in pool.map(run_reader_notebook, PAGES)}
