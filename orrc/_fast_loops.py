@@ -127,16 +127,13 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         V[t], times[t], status[t], solver[t], has_value[t] = value[0], elapsed, SQP_SOLVED, SQP, True
         kept = t
         U[t] = z[:m]
+        if per_step_cost:
+            rec.C[t] = rec.stage_cost(X_read[t], U[t], None if cp is None else cp[t])
         if f is not None:
             feval()
             X[t + 1] = fout
-            if per_step_cost:
-                rec.C[t] = rec.stage_cost(X_read[t], U[t], None if cp is None else cp[t])
-            continue
-        xt, u = X_read[t], U[t]
-        if per_step_cost:
-            rec.C[t] = rec.stage_cost(xt, u, None if cp is None else cp[t])
-        X[t + 1] = A @ xt + B @ u + wpad[t] if step is None else step(xt, u, wpad[t])
+        else:
+            X[t + 1] = A @ X_read[t] + B @ U[t] + wpad[t] if step is None else step(X_read[t], U[t], wpad[t])
     finish()
     if kept >= 0:
         ladder.succeeded(kept, warm.plan(X_read[kept], float(V[kept])))

@@ -218,7 +218,8 @@ def _start_grading(wanted=frozenset()):
 
 
 # Session fixtures that only wait on the book or on the gradings and take long (the solution-free
-# edition, the downloads in a fresh environment, the documented grading commands) are computed in
+# edition, the downloads in a fresh environment, the reader notebooks, the documented grading
+# commands) are computed in
 # the background as soon as what they wait on is ready, beside the tests that read the book (the
 # browser's, mostly waiting on one core), instead of one after the other when their tests come.
 # A test module registers one with ``@after("book", "student_book")``: the function takes the
@@ -242,15 +243,19 @@ def background(name: str):
     it was not started at collection (e.g. a single test run by name)."""
     if name not in _BACKGROUND:
         what, fn = next((w, fns[name]) for w, fns in _AFTER.items() if name in fns)
-        return fn(book_result() if what == "book" else graded_result())
+        return fn(_waited(what))
     return _BACKGROUND[name].result()
 
 
 def _start_after(what: str, names: set[str], pool) -> None:
-    wait = book_result if what == "book" else graded_result
     for name, fn in _AFTER[what].items():
         if name in names:
-            _BACKGROUND[name] = pool.submit(lambda fn=fn: fn(wait()))
+            _BACKGROUND[name] = pool.submit(lambda fn=fn: fn(_waited(what)))
+
+
+def _waited(what: str):
+    """The result of what a background fixture waits on: the book's build or the gradings."""
+    return book_result() if what == "book" else graded_result()
 
 
 def pytest_collection_modifyitems(session, config, items):

@@ -28,9 +28,13 @@ the view draws ahead on the kernel's thread, as before.
 """
 from __future__ import annotations
 
+import gc
 import os
 import pickle
+import signal
 import struct
+import sys
+import warnings
 
 __all__ = ["Worker", "start", "NICE"]
 
@@ -87,10 +91,6 @@ def _flush(fd: int, outbox: bytearray) -> None:
 
 def _child(draw, order, out_fd: int, in_fd: int, parent: int) -> None:
     """The child's work: draw the keys of ``order(view)`` not drawn yet, send each frame."""
-    import gc
-    import signal
-    import sys
-
     gc.freeze()                  # the kernel's objects are never collected here (no widget's __del__ runs)
     sys.stdout = sys.stderr = open(os.devnull, "w")   # noqa: SIM115 - the child's whole life
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -193,8 +193,6 @@ def start(draw, order, loop, on_frame, on_end) -> Worker | None:
     None at first), and returns its :class:`Worker`; ``on_frame(key, png)`` receives each frame in
     ``loop`` (``png`` None: the plotting function raised), ``on_end()`` is called when the child has
     ended. None where the platform cannot fork or the loop cannot watch a pipe."""
-    import warnings
-
     if not hasattr(os, "fork") or not hasattr(loop, "add_reader"):
         return None
     out_r, out_w = os.pipe()

@@ -164,13 +164,17 @@ class LiveView:
             self.messages.clear_output()
             self.image.value = self.frame(key)
 
+    def _neighbours(self, start: tuple) -> list[tuple]:
+        """The grid points still to draw one step from ``start`` along one slider, in queue order."""
+        return [k for k in self._queue if sum(abs(a - b) for a, b in zip(k, start)) == 1]
+
     def _worker_order(self, view: tuple | None) -> list[tuple]:
         """The worker's order: around ``view``; at first (None) the first view's neighbours last (the
         explorer's cell draws those itself)."""
         if view is not None:
             return self._order(view)
         start = self.key()
-        near = [k for k in self._queue if sum(abs(a - b) for a, b in zip(k, start)) == 1]
+        near = self._neighbours(start)
         return [k for k in self._queue if k not in near] + near
 
     def _received(self, key: tuple, png: bytes | None) -> None:
@@ -202,7 +206,7 @@ class LiveView:
         """Draw the frames one step from ``start`` along each slider now (nearest first), until ``budget``
         seconds have passed."""
         t0 = time.perf_counter()
-        for key in [k for k in self._queue if sum(abs(a - b) for a, b in zip(k, start)) == 1]:
+        for key in self._neighbours(start):
             if time.perf_counter() - t0 > budget:
                 break
             self._draw_one(key)
