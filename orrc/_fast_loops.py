@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._casadi import Buffered
+from ._casadi import Buffered, in_place_safe
 from ._validate import OrrcValueError
 from .solvers.nlp import SQP, SQP_SOLVED
 from .systems import NonlinearSystem
@@ -80,63 +80,51 @@ def fast_input_loop(controller, rec: Record, step, A, B) -> None:
 
 def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     """The closed loop of a receding-horizon controller on the NLP path (``controller.fast_nlp()``, a
-    :class:`~orrc.solvers.warm_sqp.WarmSQP`): each step solved by SQP from the previous plan shifted, and
-    accepted by its checks, is recorded in place (u_t, V_M, status, solver, iterations, seconds) with no
-    Observation, Decision or Plan; every other step (the first one, a step the warm solve does not
-    accept, the steps after a failed one) is ``general_step(t)``, the controller's own
-    :meth:`~orrc.Controller.control` in the loop of the information pattern, after its failure ladder
-    (``controller.failures``) is handed the last plan accepted here. The same inputs, values and record
-    as :func:`orrc.simulate`'s loop of the information pattern."""
+    :class:`~orrc.solvers.warm_sqp.WarmSQP`): each run of steps solved by SQP from the previous plan shifted,
+    and accepted by its checks, is taken by :meth:`WarmSQP.run <orrc.solvers.warm_sqp.WarmSQP.run>`, which
+    records u_t, V_M, the seconds and iterations in place, with no Observation, Decision or Plan; its
+    statuses and solver, and the stage costs of a non-quadratic cost, are recorded after the run. Every
+    other step (the first one, a step the warm solve does not accept, the steps after a failed one) is
+    ``general_step(t)``, the controller's own :meth:`~orrc.Controller.control` in the loop of the information
+    pattern, after its failure ladder (``controller.failures``) is handed the last plan accepted in a run.
+    The same inputs, values and record as :func:`orrc.simulate`'s loop of the information pattern."""
     T, M, X, X_read, U, wpad = rec.T, rec.Mw, rec.X, rec.X_read, rec.U, rec.wpad
     warm, ladder = controller.fast_nlp(), controller.failures
     m, z = U.shape[1], warm.z
     n = X.shape[1]
     wflat = wpad.reshape(-1)   # the preview of step t: its rows t..t+M-1, vec(w_t..w_{t+M-1})
     cp = rec.cparams if rec.Mc else None   # a cost sequence: the parameters of c_t..c_{t+M-1} at step t
-    if cp is not None:
-        k = cp.shape[1]
-        cflat = np.ascontiguousarray(cp).reshape(-1)
-    per_step_cost = not rec.quadratic
-    f = None  # the plant on the solver's buffers when it is a NonlinearSystem's own step (as its _step evaluates)
+    cflat, k = (np.ascontiguousarray(cp).reshape(-1), cp.shape[1]) if cp is not None else (None, 0)
     if step is not None and getattr(step, "__func__", None) is NonlinearSystem._step:
-        # f(x_t, u_t, w_t) read where an accepted warm step leaves them: x_t and w_t (the preview's first row)
-        # in the solver's parameters, u_t in its answer (no copies)
-        f = Buffered(step.__self__.function, args=[warm.p[:n], z[:m], warm.p[n:2 * n]])
-        fout, feval = f.res[0], f._evaluate
-    synced, kept = False, -1   # the guess in the buffer is this step's; the accepted step not yet handed over
-    status, solver, V, has_value, times = rec.status, rec.solver, rec.V, rec.has_value, rec.times
-    value = warm.f
-    warm_step, finish = warm.stepper(rec.iters)   # (some steps' iteration counts one solve later: WarmSQP)
-    for t in range(T):
-        if not synced:
-            elapsed = None
-        elif cp is None:
-            elapsed = warm_step(t, X[t], wflat[t * n:(t + M) * n])
-        else:
-            elapsed = warm_step(t, X[t], wflat[t * n:(t + M) * n], cflat[t * k:(t + M) * k])
-        if elapsed is None:   # the controller's own step (its failure ladder), from the last accepted plan
-            if kept >= 0:
-                ladder.succeeded(kept, warm.plan(X_read[kept], float(V[kept])))
-                kept = -1
-            general_step(t)
-            shifted = ladder.warm_start(t + 1)
-            synced = shifted is not None and shifted[2] == 1 and rec.ok[t]
-            if synced:
-                warm.set_guess(shifted[0], shifted[1])
+        # the plant on the solver's buffers (as a NonlinearSystem's _step evaluates): f(x_t, u_t, w_t) read
+        # where an accepted warm step leaves them, x_t and w_t (the preview's first row) in the solver's
+        # parameters, u_t in its answer, and x_{t+1} written over x_t there where that is safe (no copies)
+        f = step.__self__.function
+        advance = Buffered(f, args=[warm.p[:n], z[:m], warm.p[n:2 * n]],
+                           res=[warm.p[:n]] if in_place_safe(f, 0, 0) else None)
+    elif step is None:
+        def advance(t):
+            X[t + 1] = A @ X_read[t] + B @ U[t] + wpad[t]
+    else:
+        def advance(t):
+            X[t + 1] = step(X_read[t], U[t], wpad[t])
+    status, solver, has_value = rec.status, rec.solver, rec.has_value
+    t = 0
+    while t < T:
+        general_step(t)   # the controller's own step (its failure ladder)
+        t += 1
+        shifted = ladder.warm_start(t)
+        if t == T or shifted is None or shifted[2] != 1 or not rec.ok[t - 1]:
             continue
-        V[t], times[t], status[t], solver[t], has_value[t] = value[0], elapsed, SQP_SOLVED, SQP, True
-        kept = t
-        U[t] = z[:m]
-        if per_step_cost:
-            rec.C[t] = rec.stage_cost(X_read[t], U[t], None if cp is None else cp[t])
-        if f is not None:
-            feval()
-            X[t + 1] = fout
-        else:
-            X[t + 1] = A @ X_read[t] + B @ U[t] + wpad[t] if step is None else step(X_read[t], U[t], wpad[t])
-    finish()
-    if kept >= 0:
-        ladder.succeeded(kept, warm.plan(X_read[kept], float(V[kept])))
+        warm.set_guess(shifted[0], shifted[1])
+        start = t
+        t = warm.run(t, T, X, U, rec.V, rec.times, rec.iters, wflat, cflat, k, advance)
+        if t > start:   # steps start..t-1 taken by the warm loop: SQP solved them
+            status[start:t], solver[start:t], has_value[start:t] = [SQP_SOLVED] * (t - start), [SQP] * (t - start), True
+            if not rec.quadratic:
+                for s in range(start, t):
+                    rec.C[s] = rec.stage_cost(X_read[s], U[s], None if cp is None else cp[s])
+            ladder.succeeded(t - 1, warm.plan(X_read[t - 1], float(rec.V[t - 1])))
 
 
 def record_fast_steps(controller, rec: Record) -> None:

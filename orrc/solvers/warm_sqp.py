@@ -10,6 +10,9 @@ when the answer is accepted. What it decides is what
 :meth:`ShootingNLP.solve <orrc.solvers.nlp.ShootingNLP.solve>` decides on the same guess: a step it
 does not accept (no convergence, an error, a non-finite answer, a rejected answer) is left to the
 controller's failure ladder, which solves it again from the same guess and climbs its rungs.
+:meth:`WarmSQP.run` takes consecutive warm steps in one loop, writing each step's record into the
+closed loop's arrays, until a step is not accepted (the simulator then records the run's statuses in
+one assignment: every step of it has the same).
 
 **The per-step record without a statistics read per step.** Each accepted step is recorded with the
 solver's status and iteration count, as :meth:`ShootingNLP.solve` records them. CasADi's Python API
@@ -25,7 +28,7 @@ second accepted step and both counts come out of that one read, exactly:
   memory; not so with its ``elastic_mode`` or ``so_corr`` options, which then get a read per step): the
   statistics after solves a and b give b's count (``iter_count``) and a's as the growth of ``n_call_QP``
   since the read before a, less b's count. A step whose count is not read yet is *pending*; the next
-  solve of the buffer (accepted or not) or the end of the loop reads it. The counters accumulate over
+  solve of the buffer (accepted or not) or the end of the run reads it. The counters accumulate over
   a buffer's solves because ``FunctionBuffer`` evaluates without resetting them (a ``Function`` call
   resets them): a buffer's first two reads in a row check that (and that ``n_call_nlp_jac_fg`` grew by
   the count + 1) before any count is deferred (``Buffered.counts_accumulate``; else a read per step),
@@ -37,6 +40,7 @@ import time
 
 import numpy as np
 
+from .._casadi import Buffered
 from .nlp import SQP, ShootingNLP
 from .plan import Plan
 
@@ -69,65 +73,58 @@ class WarmSQP:
         state), as :meth:`ShootingNLP.solve` writes them."""
         self.z0[: self.nu], self.z0[self.nu:] = inputs.reshape(-1), states[1:].reshape(-1)
 
-    def stepper(self, iters):
-        """The warm step of one closed loop, ``(step, finish)``, recording the iteration counts of the
-        accepted steps into ``iters`` (indexed by step; a pending count, module docstring, is written
-        by the next call of either).
-
-        ``step(t, x, w, P=None)`` solves step t from state x with preview w = vec(w_t..w_{t+M-1}) (M n,)
-        and, for a cost sequence, the parameters P = vec(p_t..p_{t+M-1}) of the previewed costs (None: the
-        cost's own), from the guess in the buffer. It returns the seconds the solve took if its answer is
-        accepted (V_M is ``f[0]``, the first input ``z[:m]``, the status
-        :data:`~orrc.solvers.nlp.SQP_SOLVED`; the answer becomes the next guess shifted by one step), else
-        None (the buffer's guess is then unchanged; the failure ladder's solves follow). ``finish()``: the
-        end of the loop."""
-        p, n, nw, call = self.p, self.n, self.nw, self.call
+    def run(self, t: int, stop: int, X, U, V, times, iters, w, P=None, k: int = 0, advance=None) -> int:
+        """Warm steps t, t+1, ... of one closed loop, while each is accepted, up to ``stop``: returns the
+        first step not taken (``stop`` when all were). Step s solves from state ``X[s]`` with the preview
+        vec(w_s..w_{s+M-1}) = ``w[s n:(s+M) n]`` (``w`` the flat disturbances) and, for a cost sequence,
+        the previewed costs' parameters ``P[s k:(s+M) k]`` (``P`` flat, k per step; None: the cost's own),
+        from the guess in the buffer. An accepted step records its input ``U[s]`` (the answer's first),
+        V_M ``V[s]``, the seconds of its solve ``times[s]`` and its iteration count ``iters[s]`` (its status
+        is :data:`~orrc.solvers.nlp.SQP_SOLVED`), makes its answer the next guess shifted by one step, and
+        moves the plant: ``advance(s)`` writes ``X[s + 1]``, or, with ``advance`` a :class:`~orrc._casadi.
+        Buffered` (the plant's step evaluated on this buffer's own arrays: x_s and w_s in the parameters,
+        u_s in the answer), its result is ``X[s + 1]``. A step not accepted (no convergence, an error, a
+        non-finite or rejected answer) leaves the buffer's guess unchanged for the failure ladder. Every
+        count is written before it returns (the module docstring: a pending count is read with the next
+        solve's statistics, or at the end)."""
+        p, n, nw, M, m, call = self.p, self.n, self.nw, self.M, self.m, self.call
         solve, check, verdict, shifted = self._evaluate, self._check, self.verdict, self.shifted
-        z, z0, good, read, ret = self.z, self.z0, self.good, call.read_stats, self._buffer.ret
+        z, z0, good, read, ret, value = self.z, self.z0, self.good, call.read_stats, self._buffer.ret, self.f
         every_other, clock = self.every_other, time.perf_counter
+        px, pw, zu = p[:n], p[n:nw], z[:m]   # x_s and the preview in the parameters; u_s in the answer
+        windows = np.lib.stride_tricks.sliding_window_view(w, M * n)[::n]   # row s: vec(w_s..w_{s+M-1})
+        pc = p[nw:nw + M * k] if P is not None else None
+        plant = advance if isinstance(advance, Buffered) else None
+        if plant is not None:
+            feval, fout = plant._evaluate, plant.res[0]
+            in_place = np.shares_memory(fout, px)   # the plant writes x_{s+1} over x_s (in_place_safe)
+        px[:] = X[t]
         pending, base = -1, None   # the step whose count is not read yet; (n_call_QP, n_call_nlp_jac_fg) then
-
-        def count(t: int, c: int) -> None:
-            if c < 0:   # cannot happen with one QP per iteration: a CasADi whose sqpmethod counts otherwise
-                raise RuntimeError(f"WarmSQP: step {t}'s iteration count from n_call_QP is {c} < 0; "
-                                   "the solver does not solve one QP per iteration")
-            iters[t] = c
-
-        def not_taken():
-            nonlocal pending, base
-            if pending >= 0:   # this solve's statistics count the pending step too (iter_count -1: no iteration)
-                stats = read()
-                count(pending, stats["n_call_QP"] - base[0] - max(stats["iter_count"], 0))
-                pending = -1
-            base = None
-            return None
-
-        def step(t: int, x, w, P=None):
-            nonlocal pending, base
-            p[:n], p[n:nw] = x, w
-            if P is not None:
-                p[nw:nw + len(P)] = P
+        while t < stop:
+            pw[:] = windows[t]
+            if pc is not None:
+                pc[:] = P[t * k:(t + M) * k]
             t0 = clock()
             try:
                 solve()
             except RuntimeError:   # not successful (error_on_fail), or an error inside the solver
-                return not_taken()
+                break
             elapsed = clock() - t0
             check()
             if verdict[6] != 1.0:
-                return not_taken()
+                break
             if pending < 0 and base is not None and call.counts_accumulate:
                 pending = t   # counted with the next solve's statistics
             else:
                 stats = read()
                 if not every_other and (ret() or not stats["success"]):
-                    return not_taken()
+                    break
                 qp, jac, c = stats["n_call_QP"], stats["n_call_nlp_jac_fg"], stats["iter_count"]
                 if pending >= 0:   # two converged solves: c + 1 and the pending count + 1 Jacobians
                     if (jac - base[1]) - (qp - base[0]) != 2:
                         raise RuntimeError(f"WarmSQP: the solver's counters at step {t} do not add up "
                                            "(n_call_nlp_jac_fg against n_call_QP over two solves)")
-                    count(pending, qp - base[0] - c)
+                    _count(iters, pending, qp - base[0] - c)
                     pending = -1
                 elif base is not None and call.counts_accumulate is None:   # the first two reads in a row
                     call.counts_accumulate = qp - base[0] == c and jac - base[1] == c + 1
@@ -136,16 +133,24 @@ class WarmSQP:
             # accepted: kept for the failure ladder, and shifted by one step into the next guess
             good[:] = z
             z0[:] = shifted
-            return elapsed
-
-        def finish() -> None:
-            nonlocal pending, base
-            if pending >= 0:   # the last solve of the buffer
-                count(pending, read()["iter_count"])
-                pending = -1
-            base = None
-
-        return step, finish
+            V[t], times[t], U[t] = value[0], elapsed, zu
+            if plant is None:
+                advance(t)
+                px[:] = X[t + 1]
+            elif in_place:
+                feval()
+                X[t + 1] = px
+            else:
+                feval()
+                X[t + 1] = px[:] = fout
+            t += 1
+        if pending >= 0:
+            stats = read()
+            if t < stop:   # the solve not taken counts the pending step too (iter_count -1: no iteration)
+                _count(iters, pending, stats["n_call_QP"] - base[0] - max(stats["iter_count"], 0))
+            else:          # the pending step was the last solve of the run
+                iters[pending] = stats["iter_count"]
+        return t
 
     def plan(self, x, value: float) -> Plan:
         """The :class:`~orrc.solvers.Plan` of the last accepted answer, solved from state x (what the failure
@@ -154,3 +159,11 @@ class WarmSQP:
         states = np.empty((M + 1, n))
         states[0], states[1:] = x, z[self.nu:].reshape(M, n)
         return Plan(inputs=z[: self.nu].reshape(M, m).copy(), states=states, value=value, solver=SQP)
+
+
+def _count(iters, t: int, c: int) -> None:
+    """Record step t's iteration count c, split from n_call_QP (module docstring)."""
+    if c < 0:   # cannot happen with one QP per iteration: a CasADi whose sqpmethod counts otherwise
+        raise RuntimeError(f"WarmSQP: step {t}'s iteration count from n_call_QP is {c} < 0; "
+                           "the solver does not solve one QP per iteration")
+    iters[t] = c
