@@ -172,3 +172,53 @@ def test_no_worker_outlives_its_kernel(end):
     assert run.stdout.strip(), run.stderr[-2000:]
     pid = int(run.stdout.split()[0])
     assert _gone(pid), f"the worker {pid} outlived its kernel ({end})"
+
+
+SLOW_EXPLORER = textwrap.dedent("""
+    import os, time
+    import orrc
+    import orrc.viz
+    from matplotlib.figure import Figure
+    kernel = os.getpid()
+
+    def plot(M):
+        if os.getpid() != kernel:
+            time.sleep(0.5)                   # the worker takes its time: it is still drawing below
+        fig = Figure(figsize=(3, 2))
+        fig.subplots().plot([0, 1], [0, M])
+        return fig
+""")
+
+
+def test_in_a_kernel_a_rerun_of_the_cell_and_the_kernels_end_leave_no_worker():
+    """In a Jupyter kernel, as JupyterLab runs a notebook (each request names its cell): running the
+    explorer's cell again leaves one worker (the first is killed and reaped by the kernel); after
+    the kernel shuts down none is left."""
+    from benchmarks.widgets import ROOT, Kernel, _printed, kernel_env
+
+    k = Kernel(ROOT / "book", kernel_env(quick=True))
+
+    def run_cell(code: str, cell: str) -> str:
+        msg = k.kc.session.msg("execute_request", {"code": code, "silent": False, "store_history": True,
+                                                   "user_expressions": {}, "allow_stdin": False,
+                                                   "stop_on_error": True}, metadata={"cellId": cell})
+        k.kc.shell_channel.send(msg)
+        msgs = k._until_idle(msg["header"]["msg_id"], 120)
+        errors = [m["content"]["evalue"] for m in msgs if m["msg_type"] == "error"]
+        assert not errors, errors
+        return _printed(msgs)
+
+    try:
+        run_cell(SLOW_EXPLORER, "setup")
+        workers = []
+        for _ in range(2):
+            run_cell("ex = orrc.viz.explore(plot, M=list(range(40)))", "explorer")
+            workers.append(eval(run_cell("print(orrc.viz.ahead.running())", "probe")))
+    finally:
+        k.km.shutdown_kernel(now=False)       # as JupyterLab shuts a kernel down (a request, then exit)
+        k.kc.stop_channels()
+        k._sockets.cleanup()
+    (first,), (second,) = workers
+    assert first != second
+    assert _gone(first), "the worker of the explorer's first run is left"
+    assert _gone(second), "a worker outlived its kernel's shutdown"

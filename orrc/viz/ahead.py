@@ -20,8 +20,32 @@ on a busy machine). :func:`start` draws them in a child process instead:
   point on the move and shows the error);
 * it prints nothing (its output streams are ``os.devnull``), ignores the kernel's interrupt (meant
   for a cell), and leaves with ``os._exit`` (none of the kernel's clean-up, no message on its
-  sockets) when every frame is sent, when its pipe closes (the view stopped it, or the kernel is
-  gone) or on an error.
+  sockets) when every frame is sent, when its pipe closes (the kernel is gone) or on an error.
+
+Nothing in the kernel ever waits for the child (a move to a frame not drawn yet draws it on the
+spot), and no child outlives what it works for:
+
+* **a watchdog** (:meth:`Worker._watch`, every :data:`WATCH_SECONDS` of the kernel's loop) kills a
+  child that has shown no sign of life for :data:`SILENCE_SECONDS`: no byte of a frame and, where
+  Linux's ``/proc`` tells, no CPU time used (a child that is stuck, e.g. on a lock another thread of
+  the kernel held when it forked, or stopped, uses none; one drawing slowly on a loaded machine uses
+  some), or that has sent nothing for :data:`FRAME_SECONDS`; the view then draws the frames left on
+  the kernel's thread between cells (the fallback below);
+* a worker that is stopped (:meth:`Worker.stop`: the view was closed, replaced by a re-run of its
+  cell, or forgot its frames) is killed at once, not asked to leave, and reaped (no zombie);
+* when the kernel exits, every worker left is killed and reaped (``atexit``); when it is killed
+  outright, Linux's parent-death signal (``prctl(PR_SET_PDEATHSIG)``, armed in the child) kills
+  the child with it.
+
+Why ``fork`` and not ``multiprocessing``'s ``forkserver`` or ``spawn``: both start the worker from a
+fresh interpreter and must pickle what it draws, and a chapter's plotting function is defined in
+the notebook (``__main__``, which a fresh interpreter does not have) over the chapter's results;
+a fresh interpreter also imports matplotlib and ``orrc.viz`` again (1.2 s of CPU here) before its
+first frame. A fork copies both at once. Its hazard, a lock held by another of the kernel's
+threads (ZMQ's, the heartbeat's, IPython's history) at the fork, is small here: the child runs only
+the plotting function and matplotlib, which only the kernel's main thread (the one that forks)
+uses; CPython re-initialises its own locks (imports, logging) in a forked child, OpenBLAS its
+threads. What is left is what the watchdog is for.
 
 Where ``os.fork`` or the loop's ``add_reader`` is missing (Windows), :func:`start` returns None and
 the view draws ahead on the kernel's thread, as before.

@@ -10,7 +10,11 @@ rest of the grid; after every move what is left is ordered again around the new 
 * **In a worker process** (:mod:`orrc.viz.ahead`, where the platform can fork): a child forked from
   the kernel when the explorer is made draws them beside the kernel, at a lower CPU priority, and
   sends each PNG back; the kernel's thread stays free, so a move never waits behind a frame drawn
-  ahead.
+  ahead, nor for the worker (a worker that stops answering is killed by the kernel's watchdog and
+  the frames left are drawn as below). One worker per explorer at most: a re-run of the
+  explorer's cell (a new explorer in its place: the kernel's request names the cell), a closed
+  widget or :meth:`LiveView.close` stops the old one's worker, and that explorer draws nothing
+  ahead any more (a move there still draws its frame).
 * **Else on the kernel's own thread**: one frame per turn of the kernel's event loop while it is
   idle (the plotting function never runs concurrently with a cell or with itself); a move that
   arrives meanwhile waits for that frame.
@@ -104,7 +108,7 @@ class LiveView:
     can fork), else on the loop's thread. ``widget``: the ``VBox`` to display. ``stats``: how many
     frames were drawn on a move (``on_move``), ahead of the reader (``ahead``) and shown from the cache
     (``cached``). The attribute ``worker``: the :class:`orrc.viz.ahead.Worker` drawing ahead (None:
-    none, or it is done).
+    none, or it is done); ``closed``: True once it draws nothing ahead any more (:meth:`close`).
     """
 
     def __init__(self, plot, params: dict, initial: dict, dpi: int, ahead: bool | None = None,
