@@ -35,7 +35,8 @@ spot), and no child outlives what it works for:
   cell, or forgot its frames) is killed at once, not asked to leave, and reaped (no zombie);
 * when the kernel exits, every worker left is killed and reaped (``atexit``); when it is killed
   outright, Linux's parent-death signal (``prctl(PR_SET_PDEATHSIG)``, armed in the child) kills
-  the child with it.
+  the child with it (the signal comes when the thread that forked it ends: the kernel's main
+  thread, which runs the cells).
 
 Why ``fork`` and not ``multiprocessing``'s ``forkserver`` or ``spawn``: both start the worker from a
 fresh interpreter and must pickle what it draws, and a chapter's plotting function is defined in
@@ -177,8 +178,8 @@ def _child(draw, order, out_fd: int, in_fd: int, parent: int) -> None:
 class Worker:
     """The kernel's side of a child drawing frames (see the module docstring). ``pid``: the child's
     process id; ``alive``: False once it has ended (all frames sent, stopped, killed by the watchdog,
-    or failed); ``killed``: True when the watchdog killed it (it sent nothing for
-    :data:`SILENCE_SECONDS`)."""
+    or failed); ``killed``: True when the watchdog killed it (no sign of life for
+    :data:`SILENCE_SECONDS`, or no frame for :data:`FRAME_SECONDS`)."""
 
     def __init__(self, pid: int, out_r: int, cmd_w: int, loop, on_frame, on_end):
         self.pid, self._out, self._cmd, self._loop = pid, out_r, cmd_w, loop
