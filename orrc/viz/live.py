@@ -10,7 +10,11 @@ rest of the grid; after every move what is left is ordered again around the new 
 * **In a worker process** (:mod:`orrc.viz.ahead`, where the platform can fork): a child forked from
   the kernel when the explorer is made draws them beside the kernel, at a lower CPU priority, and
   sends each PNG back; the kernel's thread stays free, so a move never waits behind a frame drawn
-  ahead.
+  ahead, nor for the worker (a worker that stops answering is killed by the kernel's watchdog and
+  the frames left are drawn as below). One worker per explorer at most: a re-run of the
+  explorer's cell (a new explorer in its place: the kernel's request names the cell), a closed
+  widget or :meth:`LiveView.close` stops the old one's worker, and that explorer draws nothing
+  ahead any more (a move there still draws its frame).
 * **Else on the kernel's own thread**: one frame per turn of the kernel's event loop while it is
   idle (the plotting function never runs concurrently with a cell or with itself); a move that
   arrives meanwhile waits for that frame.
@@ -29,6 +33,7 @@ from __future__ import annotations
 
 import itertools
 import time
+import weakref
 
 from .._validate import OrrcValueError
 from . import ahead as _ahead
@@ -38,6 +43,8 @@ __all__ = ["LiveView"]
 
 #: the most time the explorer's cell spends drawing the first view's neighbours (in a kernel)
 NEIGHBOURS_SECONDS = 1.0
+#: the explorers made by the last run of each notebook cell: {cell id: (that run's message id, [views])}
+_BY_CELL: dict[str, tuple[str, list]] = {}
 
 
 def _fmt(v) -> str:
@@ -52,6 +59,35 @@ def _running_loop():
         return asyncio.get_running_loop()
     except RuntimeError:
         return None
+
+
+def _running_cell() -> tuple[str | None, str | None]:
+    """The notebook cell running now and this run of it, ``(cell id, message id)`` from the kernel's
+    request (JupyterLab and Notebook 7 send the cell's id); ``(None, None)`` outside a kernel."""
+    try:
+        from IPython import get_ipython
+
+        parent = get_ipython().kernel.get_parent("shell")
+    except Exception:  # noqa: BLE001 - no IPython, no kernel, or an older kernel: no cell known
+        return None, None
+    return (parent.get("metadata") or {}).get("cellId"), (parent.get("header") or {}).get("msg_id")
+
+
+def _replaces(view) -> None:
+    """``view`` replaces the explorers made by an earlier run of the same cell: they draw nothing
+    ahead any more and their workers are stopped (a re-run chapter leaves one worker per explorer)."""
+    cell, run = _running_cell()
+    if cell is None or run is None:
+        return
+    last_run, views = _BY_CELL.get(cell, (None, []))
+    if last_run != run:
+        for old in views:
+            old = old()
+            if old is not None:
+                old.close()
+        views = []
+    views.append(weakref.ref(view))
+    _BY_CELL[cell] = (run, views)
 
 
 def check_figure(fig, kwargs: dict):
@@ -72,7 +108,7 @@ class LiveView:
     can fork), else on the loop's thread. ``widget``: the ``VBox`` to display. ``stats``: how many
     frames were drawn on a move (``on_move``), ahead of the reader (``ahead``) and shown from the cache
     (``cached``). The attribute ``worker``: the :class:`orrc.viz.ahead.Worker` drawing ahead (None:
-    none, or it is done).
+    none, or it is done); ``closed``: True once it draws nothing ahead any more (:meth:`close`).
     """
 
     def __init__(self, plot, params: dict, initial: dict, dpi: int, ahead: bool | None = None,
@@ -101,8 +137,10 @@ class LiveView:
 
             ahead = in_kernel()
         self._loop = _running_loop() if ahead else None
-        self.worker = None
+        self.worker, self.closed = None, False
         if self._loop is not None:
+            _replaces(self)
+            self.widget.observe(self._widget_closed, names="comm")
             if worker is None or worker:
                 self.worker = _ahead.start(self._draw_png, self._worker_order, self._loop, self._received,
                                            self._worker_ended)
@@ -179,9 +217,6 @@ class LiveView:
 
     def _received(self, key: tuple, png: bytes | None) -> None:
         """A frame from the worker (None: its plotting function raised; drawn on the move there)."""
-        if getattr(self.widget, "comm", None) is None:     # the widget was closed: no more frames
-            self.worker.stop()
-            return
         if png is None:
             self.failed.add(key)
         elif key not in self.frames:
@@ -189,10 +224,24 @@ class LiveView:
             self.stats["ahead"] += 1
 
     def _worker_ended(self) -> None:
-        """The worker has left: what it did not draw (it failed, or was stopped) is drawn here."""
+        """The worker has left: what it did not draw (it failed, or the watchdog killed it) is drawn
+        here, on the kernel's thread between cells."""
         self.worker = None
-        if self.pending and getattr(self.widget, "comm", None) is not None:
+        if self.pending and not self.closed:
             self._loop.call_soon(self._draw_ahead)
+
+    def _widget_closed(self, change) -> None:
+        if change["new"] is None:
+            self.close()
+
+    def close(self) -> None:
+        """Draw nothing ahead any more (the widget was closed, or a re-run of its cell replaced the
+        explorer): the worker is stopped; a move still draws its frame."""
+        self.closed = True
+        if self.worker is not None:
+            self.worker.stop()
+            self.worker = None
+        self._queue = []
 
     def forget(self) -> None:
         """Forget every frame drawn and draw none ahead (each move then draws its frame)."""
@@ -223,7 +272,7 @@ class LiveView:
         """Draw the next frame not yet drawn, then give the kernel back its loop (one frame per turn)."""
         while self._queue and (self._queue[0] in self.frames or self._queue[0] in self.failed):
             self._queue.pop(0)
-        if not self._queue or getattr(self.widget, "comm", None) is None:   # done, or the widget was closed
+        if not self._queue or self.closed:   # done, or the widget was closed or replaced
             return
         self._draw_one(self._queue.pop(0))
         self._loop.call_later(0.005, self._draw_ahead)
