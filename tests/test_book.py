@@ -293,9 +293,7 @@ _OVERFLOWING = """() => {
 
 
 # every remote request is refused and recorded, so an offline failure shows up here too
-def _start(chromium, page, width):
-    """A context of its own (its own renderer process) at ``width``, the page requested, not
-    waited for: the browser loads it while the test goes on (see :func:`_ready`)."""
+def _open(chromium, page, width):
     ctx = chromium.new_context(viewport={"width": width, "height": 900}, device_scale_factor=1)
     events = {"errors": [], "remote": []}
 
@@ -311,14 +309,7 @@ def _start(chromium, page, width):
     pg = ctx.new_page()
     pg.on("console", lambda m: events["errors"].append(f"console.{m.type}: {m.text}") if m.type == "error" else None)
     pg.on("pageerror", lambda e: events["errors"].append(f"page error: {e}"))
-    pg.goto((HTML / f"{page}.html").as_uri(), wait_until="commit")
-    return ctx, pg, events
-
-
-def _ready(ctx, pg, page, events):
-    """Wait until the started page has loaded, its math is typeset (where it loads MathJax) and
-    its images are decoded."""
-    pg.wait_for_load_state("load")
+    pg.goto((HTML / f"{page}.html").as_uri(), wait_until="load")
     # MathJax typesets after load; wait for it where the page loads it
     if pg.evaluate("() => !!document.querySelector('script[src*=\"mathjax\"]')"):
         from playwright.sync_api import TimeoutError as PlaywrightTimeout
@@ -336,28 +327,6 @@ def _ready(ctx, pg, page, events):
         return img.complete ? null : new Promise(r => { img.onload = img.onerror = r; });
     }))""")
     return ctx, pg, events
-
-
-# The next page of the session's browser tests, requested while this one is audited: its loading and
-# typesetting run in its own renderer process beside this page's screenshots and axe-core audits
-# (mostly work in this page's renderer, the test's thread waiting), and the next test finds it
-# loaded. {page: (context, page, events)}; a page nobody asks for is closed by the next test.
-_NEXT: dict = {}
-
-
-def _open(chromium, page, width, request=None):
-    """The page at ``width``, loaded, typeset, its images decoded (the context to close with it);
-    with ``request``, the next browser test's page is requested too (see _NEXT)."""
-    for other in [p for p in _NEXT if p != page]:
-        _NEXT.pop(other)[0].close()
-    opened = _NEXT.pop(page, None) or _start(chromium, page, width)
-    if request is not None:
-        items = request.session.items
-        later = items[items.index(request.node) + 1:]
-        nxt = next((it for it in later if getattr(it, "originalname", None) == request.node.originalname), None)
-        if nxt is not None and nxt.callspec.params.get("page") != page:
-            _NEXT[nxt.callspec.params["page"]] = _start(chromium, nxt.callspec.params["page"], width)
-    return _ready(*opened[:2], page, opened[2])
 
 
 MIN_SHOWN_DPI = 99.5   # 100 px per figure inch, less a rounding of the layout
@@ -406,9 +375,9 @@ _TEXT_OUTSIDE_CODE = """() => {
 
 @pytest.mark.browser
 @pytest.mark.parametrize("page", PAGES, ids=page_id)
-def test_page_in_a_real_browser(chromium, book, page, request):
+def test_page_in_a_real_browser(chromium, book, page):
     assert book["rc"] == 0, "the book did not build"
-    ctx, pg, events = _open(chromium, page, WIDTHS[0], request)
+    ctx, pg, events = _open(chromium, page, WIDTHS[0])
     try:
         # math typeset: every math node became a MathJax container, no raw TeX left in the text
         untypeset = pg.evaluate("() => Array.from(document.querySelectorAll('span.math, div.math'))"
