@@ -406,7 +406,10 @@ def test_page_in_a_real_browser(chromium, book, page):
             pg.evaluate("() => window.scrollTo(0, 0)")  # sticky sidebars are drawn where the page is scrolled
             # two animation frames: the new width laid out and painted before the picture
             pg.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
-            pg.screenshot(path=str(SHOTS / f"{page_id(page)}-{width}.jpg"), full_page=True, quality=85)
+            # caret="initial": no text caret to hide on these pages, and hiding it (the default) restyles
+            # the whole page twice, a stylesheet put in and taken out (0.1 to 0.4 s a screenshot of a tall page)
+            pg.screenshot(path=str(SHOTS / f"{page_id(page)}-{width}.jpg"), full_page=True, quality=85,
+                          caret="initial")
             # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
             overflow = pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
             assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"

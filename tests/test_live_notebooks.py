@@ -37,6 +37,7 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
 JUPYTER_LAB = Path(sys.executable).parent / "jupyter-lab"
 RUN_ALL_TIMEOUT = 300_000   # ms, one chapter at the test size on a busy 2-core machine
+EXPRESSIONS_TIMEOUT = 10_000   # ms, the last Markdown cells' expressions after the last code cell ran
 CHAPTERS = ["book/problem", "book/lemma2", "book/preview_rhc"]   # three of the shorter runs
 # the what-if edit of issue 25: Algorithm 1's torque bound, ±8 -> ±12; the plan then no longer
 # starts at the bound, which the text claims for ±8
@@ -118,6 +119,17 @@ def open_chapter(chromium, lab, chapter: str):
     return ctx, page, errors
 
 
+def settle(page, condition: str, arg=None, timeout: float = 5_000) -> None:
+    """Wait until ``condition`` (a function of ``arg``) holds in the page, at most ``timeout`` ms, and go
+    on either way: what follows reads the page and reports what is wrong."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+    try:
+        page.wait_for_function(condition, arg=arg, timeout=timeout)
+    except PlaywrightTimeout:
+        pass
+
+
 def dirty(page) -> int:
     return page.locator(".lm-DockPanel .lm-TabBar-tab.jp-mod-dirty").count()
 
@@ -132,7 +144,11 @@ def run_all(page) -> float:
                    const ind = document.querySelector('.jp-Notebook-ExecutionIndicator');
                    return prompts.length && prompts.every(p => /\\[\\d+\\]/.test(p.textContent))
                           && ind && ind.dataset.status === 'idle' }""", timeout=RUN_ALL_TIMEOUT)
-    page.wait_for_timeout(1500)   # the last Markdown cells' expressions
+    # the last Markdown cells' expressions: evaluated once no cell's prose shows one unevaluated (one
+    # that stays so is reported by the test that reads the prose)
+    settle(page, """() => ![...document.querySelectorAll('.jp-Notebook .jp-MarkdownCell')]
+        .some(c => /glued\\(|\\{glue:text\\}|\\{eval\\}/.test((c.querySelector('.myst') || c).innerText))""",
+           timeout=EXPRESSIONS_TIMEOUT)
     return time.perf_counter() - t0
 
 
@@ -177,12 +193,14 @@ def test_an_untouched_chapter_opens_unmodified_and_closes_without_asking(chromiu
         assert dirty(page) == 0, f"{chapter} became modified while idle"
         page.locator(".lm-DockPanel .lm-TabBar-tab").first.hover()
         page.locator(".lm-DockPanel .lm-TabBar-tab .lm-TabBar-tabCloseIcon").first.click()
-        page.wait_for_timeout(1500)
+        name = chapter.split("/")[-1] + ".md"
+        # closed, or a dialog asks something (either is what the test reads next)
+        settle(page, "(name) => ![...document.querySelectorAll('.lm-DockPanel .lm-TabBar-tab')]"
+                     ".some(t => t.innerText.includes(name)) || !!document.querySelector('.jp-Dialog')", name)
         dialogs = page.locator(".jp-Dialog").count()
         SHOTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SHOTS / f"lab-close-{chapter.split('/')[-1]}.png"))
         assert dialogs == 0, f"closing the untouched {chapter} asked something (a save dialog)"
-        name = chapter.split("/")[-1] + ".md"
         assert page.locator(".lm-DockPanel .lm-TabBar-tab", has_text=name).count() == 0, f"{name} is still open"
     finally:
         ctx.close()
