@@ -26,12 +26,11 @@ class Buffered:
     copied into :attr:`args`, the results appear in :attr:`res`, and no CasADi matrix is built per call.
     The results are overwritten by the next call (copy what you keep)."""
 
-    def __init__(self, fn: ca.Function, args=None, res=None):
+    def __init__(self, fn: ca.Function, args=None):
         self.fn = fn
-        # ``args``, ``res``: contiguous arrays to evaluate on instead of arrays of its own (e.g. another
-        # buffer's; an output may share an input's memory only where :func:`in_place_safe` says so)
+        # ``args``: contiguous arrays to evaluate on instead of arrays of its own (e.g. another buffer's)
         self.args = list(args) if args is not None else [np.zeros(fn.nnz_in(i)) for i in range(fn.n_in())]
-        self.res = list(res) if res is not None else [np.zeros(fn.nnz_out(i)) for i in range(fn.n_out())]
+        self.res = [np.zeros(fn.nnz_out(i)) for i in range(fn.n_out())]
         self.buffer, self._evaluate = fn.buffer()
         #: the statistics of the last evaluation (``Function.stats`` of the buffer's memory), a callable
         self.read_stats = functools.partial(_buffer_stats, self.buffer)
@@ -63,27 +62,6 @@ class Buffered:
     def stats(self) -> dict:
         """The statistics of the last evaluation (``Function.stats`` of the buffer's memory)."""
         return self.read_stats()
-
-
-def in_place_safe(fn: ca.Function, i_in: int, i_out: int) -> bool:
-    """Whether output ``i_out`` of ``fn`` may be written into the memory of its input ``i_in`` (same size):
-    in the order ``fn``'s instructions run (an SX function's algorithm), every nonzero of the input is read
-    before that nonzero of the output is written, so no read sees a written value. False for any other
-    kind of function."""
-    if not fn.is_a("SXFunction") or fn.nnz_in(i_in) != fn.nnz_out(i_out):
-        return False
-    written = set()
-    for k in range(fn.n_instructions()):
-        op = fn.instruction_id(k)
-        if op == ca.OP_OUTPUT:
-            o, nz = fn.instruction_output(k)
-            if o == i_out:
-                written.add(nz)
-        elif op == ca.OP_INPUT:
-            i, nz = fn.instruction_input(k)
-            if i == i_in and nz in written:
-                return False
-    return True
 
 
 def buffered(owner, key: str, make, *initial) -> Buffered:

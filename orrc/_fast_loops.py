@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._casadi import Buffered, in_place_safe
+from ._casadi import Buffered
 from ._validate import OrrcValueError
 from .solvers.nlp import SQP, SQP_SOLVED
 from .systems import NonlinearSystem
@@ -98,10 +98,8 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     if step is not None and getattr(step, "__func__", None) is NonlinearSystem._step:
         # the plant on the solver's buffers (as a NonlinearSystem's _step evaluates): f(x_t, u_t, w_t) read
         # where an accepted warm step leaves them, x_t and w_t (the preview's first row) in the solver's
-        # parameters, u_t in its answer, and x_{t+1} written over x_t there where that is safe (no copies)
-        f = step.__self__.function
-        advance = Buffered(f, args=[warm.p[:n], z[:m], warm.p[n:2 * n]],
-                           res=[warm.p[:n]] if in_place_safe(f, 0, 0) else None)
+        # parameters, u_t in its answer (no copies)
+        advance = Buffered(step.__self__.function, args=[warm.p[:n], z[:m], warm.p[n:2 * n]])
     elif step is None:
         def advance(t):
             X[t + 1] = A @ X_read[t] + B @ U[t] + wpad[t]

@@ -92,16 +92,14 @@ class WarmSQP:
         z, z0, good, read, ret, value = self.z, self.z0, self.good, call.read_stats, self._buffer.ret, self.f
         every_other, clock = self.every_other, time.perf_counter
         px, pw, zu = p[:n], p[n:nw], z[:m]   # x_s and the preview in the parameters; u_s in the answer
-        windows = np.lib.stride_tricks.sliding_window_view(w, M * n)[::n]   # row s: vec(w_s..w_{s+M-1})
         pc = p[nw:nw + M * k] if P is not None else None
         plant = advance if isinstance(advance, Buffered) else None
         if plant is not None:
             feval, fout = plant._evaluate, plant.res[0]
-            in_place = np.shares_memory(fout, px)   # the plant writes x_{s+1} over x_s (in_place_safe)
-        px[:] = X[t]
         pending, base = -1, None   # the step whose count is not read yet; (n_call_QP, n_call_nlp_jac_fg) then
         while t < stop:
-            pw[:] = windows[t]
+            px[:] = X[t]
+            pw[:] = w[t * n:(t + M) * n]
             if pc is not None:
                 pc[:] = P[t * k:(t + M) * k]
             t0 = clock()
@@ -136,13 +134,9 @@ class WarmSQP:
             V[t], times[t], U[t] = value[0], elapsed, zu
             if plant is None:
                 advance(t)
-                px[:] = X[t + 1]
-            elif in_place:
-                feval()
-                X[t + 1] = px
             else:
                 feval()
-                X[t + 1] = px[:] = fout
+                X[t + 1] = fout
             t += 1
         if pending >= 0:
             stats = read()
