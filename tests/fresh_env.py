@@ -106,9 +106,10 @@ def fresh_env(name: str, requirements: list[str] | str | Path, *, base: Path | N
         req = target / "requirements.txt"
         req.write_text("\n".join(lines) + "\n", encoding="utf-8")
         env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "PIP_REQUIRE_VIRTUALENV")}
+        # --no-compile: the modules a check imports are compiled when first imported (most never are)
         run = subprocess.run([str(exe), "-m", "pip", "install", "--no-input", "--disable-pip-version-check",
-                              "--quiet", "-r", str(req)], cwd=base, env=env, capture_output=True, text=True,
-                             timeout=timeout)
+                              "--quiet", "--no-compile", "-r", str(req)], cwd=base, env=env, capture_output=True,
+                             text=True, timeout=timeout)
         if run.returncode != 0:
             shutil.rmtree(target, ignore_errors=True)
             raise RuntimeError(f"building the fresh environment {name!r} failed (pip exit {run.returncode}):\n"
