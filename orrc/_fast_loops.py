@@ -88,7 +88,7 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     ``general_step(t)``, the controller's own :meth:`~orrc.Controller.control` in the loop of the information
     pattern, after its failure ladder (``controller.failures``) is handed the last plan accepted in a run.
     The same inputs, values and record as :func:`orrc.simulate`'s loop of the information pattern."""
-    T, M, X, X_read, U, wpad = rec.T, rec.Mw, rec.X, rec.X_read, rec.U, rec.wpad
+    T, X, X_read, U, wpad = rec.T, rec.X, rec.X_read, rec.U, rec.wpad
     warm, ladder = controller.fast_nlp(), controller.failures
     m, z = U.shape[1], warm.z
     n = X.shape[1]

@@ -1,6 +1,7 @@
 import os
 import shutil
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -205,8 +206,6 @@ GRADING_NICE = 5
 def _yield_to_the_critical_path():
     """Lower the calling thread's priority by GRADING_NICE (Linux only: elsewhere the nice value is
     the whole process's, and the tests must keep theirs)."""
-    import threading
-
     if sys.platform.startswith("linux"):
         tid = threading.get_native_id()
         os.setpriority(os.PRIO_PROCESS, tid, min(19, os.getpriority(os.PRIO_PROCESS, tid) + GRADING_NICE))
@@ -354,7 +353,6 @@ def run_coroutine(coro):
     """``asyncio.run(coro)`` in a thread of its own: the session's Chromium (Playwright's sync API)
     keeps an event loop running in the main thread, where asyncio.run refuses to start another."""
     import asyncio
-    import threading
 
     result = {}
 
