@@ -81,9 +81,9 @@ class WarmSQP:
         from the guess in the buffer. An accepted step records its input ``U[s]`` (the answer's first),
         V_M ``V[s]``, the seconds of its solve ``times[s]`` and its iteration count ``iters[s]`` (its status
         is :data:`~orrc.solvers.nlp.SQP_SOLVED`), makes its answer the next guess shifted by one step, and
-        moves the plant: ``advance(s)`` writes ``X[s + 1]``, or, with ``advance`` a :class:`~orrc._casadi.
-        Buffered` (the plant's step evaluated on this buffer's own arrays: x_s and w_s in the parameters,
-        u_s in the answer), its result is ``X[s + 1]``. A step not accepted (no convergence, an error, a
+        moves the plant: ``advance(s)`` writes ``X[s + 1]``, or, with ``advance`` a
+        :class:`~orrc._casadi.Buffered` (the plant's step evaluated on this buffer's own arrays: x_s and
+        w_s in the parameters, u_s in the answer), its result is ``X[s + 1]``. A step not accepted (no convergence, an error, a
         non-finite or rejected answer) leaves the buffer's guess unchanged for the failure ladder. Every
         count is written before it returns (the module docstring: a pending count is read with the next
         solve's statistics, or at the end)."""
