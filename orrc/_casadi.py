@@ -26,17 +26,20 @@ class Buffered:
     copied into :attr:`args`, the results appear in :attr:`res`, and no CasADi matrix is built per call.
     The results are overwritten by the next call (copy what you keep)."""
 
-    def __init__(self, fn: ca.Function, args=None):
+    def __init__(self, fn: ca.Function, args=None, res=None):
         self.fn = fn
-        # ``args``: contiguous arrays to evaluate on instead of arrays of its own (e.g. another buffer's)
+        # ``args``, ``res``: contiguous arrays to evaluate on instead of arrays of its own (e.g. another buffer's)
         self.args = list(args) if args is not None else [np.zeros(fn.nnz_in(i)) for i in range(fn.n_in())]
-        self.res = [np.zeros(fn.nnz_out(i)) for i in range(fn.n_out())]
+        self.res = list(res) if res is not None else [np.zeros(fn.nnz_out(i)) for i in range(fn.n_out())]
         self.buffer, self._evaluate = fn.buffer()
         #: the statistics of the last evaluation (``Function.stats`` of the buffer's memory), a callable
         self.read_stats = functools.partial(_buffer_stats, self.buffer)
         #: an NLP solver's counters (``n_call_*``) accumulate over the evaluations of this buffer (None:
         #: not known yet; :class:`orrc.solvers.warm_sqp.WarmSQP` finds out)
         self.counts_accumulate = None
+        #: a compiled solver's count of its SQP iterations in this thread (``orrc._jit``; None: none), and
+        #: how many of its solves were checked against the statistics (``WarmSQP``)
+        self.counter, self.counter_checks = None, 0
         for i, a in enumerate(self.args):
             self.buffer.set_arg(i, memoryview(a))
         for i, r in enumerate(self.res):

@@ -168,6 +168,23 @@ class PreviewRHC(Controller):
         """The failure ladder of this controller (:mod:`orrc.controllers.failures`)."""
         return self._ladder
 
+    def compile(self, wait: bool = False) -> bool:
+        """Compile this controller's SQP solver and acceptance checks to machine code now, in the background
+        (what it does by itself after :data:`orrc._jit.COMPILE_AFTER` SQP solves; see
+        :meth:`ShootingNLP.compile <orrc.solvers.nlp.ShootingNLP.compile>`): the same answers bit for bit,
+        about a fifth less time per pendulum step, used once ready. ``wait``: return when both are ready (or
+        failed). Returns whether both are ready; False off the NLP path with SQP, without a C compiler, or
+        while building (:meth:`compile_error` says why)."""
+        return isinstance(self._nlp, ShootingNLP) and self._nlp.compile(wait)
+
+    def compile_error(self) -> str | None:
+        """Why this controller's SQP solver or checks are not compiled (None: compiled, building, or not
+        asked for yet)."""
+        nlp = self._nlp
+        if not isinstance(nlp, ShootingNLP) or SQP not in nlp.solvers:
+            return "no SQP solver to compile (this controller's path is not the NLP path with SQP)"
+        return nlp.compile_error(SQP) or nlp.compile_error("acceptance")
+
     def _fast_lq_input(self, x, w_preview):
         """u_t of the exact LQ path for a time-invariant cost: what :meth:`control` returns (the
         simulator's fast path, :mod:`orrc.controllers.base`)."""

@@ -44,19 +44,12 @@ The solver only reports: a failed solve returns a :class:`~orrc.solvers.Plan` wi
 (a cold retry, IPOPT, the shifted previous plan, stopping) is the controller's escalation policy
 (:mod:`orrc.controllers.failures`), the same whichever solver failed.
 
-**Options.** ``solver_options`` keys that start with ``"sqpmethod."`` go to the SQP solver (the
-prefix removed; e.g. ``{"sqpmethod.max_iter": 20}``, ``{"sqpmethod.qpsol": "osqp"}``), keys that
-start with ``"ipopt."`` to IPOPT (CasADi's own syntax, e.g. ``{"ipopt.max_iter": 100}``), and other
-keys (options of every CasADi ``nlpsol``, e.g. ``"print_time"``) to each solver that is built.
-Two of SQP's defaults serve the closed loop's speed and change no answer: ``error_on_fail`` (an
-unsuccessful solve raises, so a successful one is known without reading the solver's statistics;
-:meth:`ShootingNLP.solve` reads an unsuccessful one as before) and no multipliers of the parameters
-(``calc_lam_p`` off: nothing here uses them, and each solve saves a gradient evaluation).
+**Options** (:mod:`orrc.solvers.nlp_solvers`): ``solver_options`` keys ``"sqpmethod.*"`` go to SQP,
+``"ipopt.*"`` to IPOPT, other keys to each solver that is built.
 """
 from __future__ import annotations
 
 import math
-import re
 import time
 import warnings
 
@@ -64,7 +57,10 @@ import casadi as ca
 import numpy as np
 
 from .._casadi import Buffered, DropsBuffers, buffered
+from .._jit import COMPILE_AFTER, Compiled, compiled_function, compiled_nlpsol
 from .._validate import OrrcValueError, check_size
+from .nlp_solvers import (DEFAULT_IPOPT, DEFAULT_SQP, IPOPT, NLP_SOLVERS, OPTION_PREFIX, SOLVER_LABELS,  # noqa: F401
+                          SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _split_options)
 from ..systems import System
 from ..costs import StageCost
 from .acceptance import ACCEPT_ATOL, ACCEPT_RTOL, acceptance_function, rejection  # noqa: F401  (importable here)
@@ -73,108 +69,6 @@ from .plan import Plan, SolverWarning  # noqa: F401  (SolverWarning: importable 
 #: operations per node of the transcribed expression graph (build and IPOPT set-up), measured
 #: on the pendulum: about 1 ms per shooting interval of about 25 nodes
 _OPS_PER_NODE = 4e4
-
-SQP, IPOPT = "sqp", "ipopt"
-#: the NLP solvers, in the order of the default failure ladder (SQP first, IPOPT as the fallback)
-NLP_SOLVERS = (SQP, IPOPT)
-#: how the solvers are named in statuses and messages
-SOLVER_LABELS = {SQP: "SQP", IPOPT: "IPOPT"}
-#: the prefix of a solver's own keys in ``solver_options``
-OPTION_PREFIX = {SQP: "sqpmethod.", IPOPT: "ipopt."}
-_PLUGIN = {SQP: "sqpmethod", IPOPT: "ipopt"}
-
-DEFAULT_IPOPT = {
-    "ipopt.print_level": 0,
-    "ipopt.sb": "yes",
-    "print_time": False,
-    "ipopt.tol": 1e-9,
-    "ipopt.acceptable_tol": 1e-6,
-    "ipopt.max_iter": 500,
-}
-
-_QRQP_QUIET = {"print_iter": False, "print_header": False, "print_info": False}
-
-DEFAULT_SQP = {
-    "qpsol": "qrqp",
-    "qpsol_options": dict(_QRQP_QUIET, error_on_fail=False),
-    "hessian_approximation": "exact",
-    "convexify_strategy": "eigen-clip",
-    "tol_pr": 1e-8,
-    "tol_du": 1e-8,
-    "max_iter": 50,
-    "print_header": False,
-    "print_iteration": False,
-    "print_status": False,
-    "print_time": False,
-    # an unsuccessful solve raises (CasADi's error text: UNSUCCESSFUL), so that a successful one is known
-    # without reading its statistics; its answer and statistics are there as without the option
-    "error_on_fail": True,
-    # no multipliers of the parameters (nothing here uses them): no gradient evaluation after each solve
-    "calc_lam_p": False,
-    "no_nlp_grad": True,
-}
-#: what CasADi raises for an unsuccessful solve with ``error_on_fail`` (the solve itself ran as without it)
-UNSUCCESSFUL = "nlpsol process failed"
-#: the status of every successful ``sqpmethod`` solve (the only one with ``success``)
-SQP_SOLVED = "Solve_Succeeded"
-_NEEDS_NLP_GRAD = ("calc_lam_p", "calc_lam_x", "calc_f", "calc_g")
-
-
-
-def _split_options(solver_options: dict | None, solvers) -> tuple[dict, list]:
-    """``{solver: options}`` for the ``solvers`` to build, from the user's ``solver_options`` merged
-    into the defaults (module docstring: ``"sqpmethod."`` keys for SQP, ``"ipopt."`` keys for
-    IPOPT, other keys for each), and the keys that none of ``solvers`` takes (to warn about)."""
-    given = dict(solver_options or {})
-    out, unused = {}, []
-    for key in given:
-        owner = [s for s, pre in OPTION_PREFIX.items() if key.startswith(pre)]
-        if owner and owner[0] not in solvers:
-            unused.append(key)
-    for s in solvers:
-        opts = dict(DEFAULT_SQP if s == SQP else DEFAULT_IPOPT)
-        if s == SQP:
-            opts["qpsol_options"] = dict(opts["qpsol_options"])
-        for key, value in given.items():
-            own = [t for t, pre in OPTION_PREFIX.items() if key.startswith(pre)]
-            if own and own[0] != s:
-                continue
-            if s == SQP and own:
-                key = key[len(OPTION_PREFIX[SQP]):]
-            if s == SQP and key == "qpsol" and value != opts["qpsol"]:
-                opts["qpsol_options"] = {"error_on_fail": False}  # qrqp's print options are qrqp's own
-            if s == SQP and key == "qpsol_options" and isinstance(value, dict):
-                opts["qpsol_options"].update(value)
-            else:
-                opts[key] = value
-        if s == SQP and any(opts.get(key) for key in _NEEDS_NLP_GRAD):
-            opts["no_nlp_grad"] = False   # the user asked for what the gradient function computes
-        out[s] = opts
-    return out, unused
-
-
-def _nlpsol(solver: str, problem: dict, opts: dict, given: dict | None):
-    try:
-        return ca.nlpsol(f"rhc_{solver}", _PLUGIN[solver], problem, opts)
-    except RuntimeError as exc:  # CasADi rejects unknown options at construction
-        first = _last_line(exc)
-        hint = (" (options of one solver take its prefix: 'sqpmethod.max_iter', 'ipopt.max_iter'; "
-                "unprefixed keys go to every solver)") if given else ""
-        raise OrrcValueError(
-            f"CasADi rejected the NLP solver {SOLVER_LABELS[solver]} ({_PLUGIN[solver]}) with solver_options "
-            f"{sorted(given or {})}: {first}{hint}") from exc
-
-
-def _last_line(exc: Exception) -> str:
-    """The informative line of a CasADi error (its source location dropped): the one naming the unknown
-    option or missing plugin when there is one, else the last."""
-    lines = [ln.strip() for ln in str(exc).strip().splitlines() if ln.strip()]
-    if not lines:
-        return type(exc).__name__
-    keys = ("Unknown option", "No such", "not found", "Invalid", "failed")
-    line = next((ln for ln in lines if any(k in ln for k in keys)), lines[-1])
-    return re.sub(r"^(\.\.\./)?\S+\.(cpp|hpp):\d+: ", "", line)[:200]
-
 
 class ShootingNLP(DropsBuffers):
     """Multiple-shooting transcription of the M-step problem, built once, with its solvers.
@@ -244,6 +138,10 @@ class ShootingNLP(DropsBuffers):
                      *range(nu + (M - 1) * n, nu + M * n)]
             self._acceptance = acceptance_function(z, problem["g"], p, ca.vec(U), J_roll, ca.vertcat(*X_roll),
                                                     self.lbz, self.ubz, state_bounds is not None, shift)
+        #: SQP solves on this NLP (here and in :class:`~orrc.solvers.warm_sqp.WarmSQP`), and the compiled copies
+        #: (:mod:`orrc._jit`) of the SQP solver and the acceptance checks, asked for after
+        #: :data:`orrc._jit.COMPILE_AFTER` of them or by :meth:`compile`
+        self.sqp_solves, self._jit = 0, {}
         self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
         self._cold_U = np.clip(np.zeros((M, m)), *self.input_bounds)
         self._cold_U.flags.writeable = False
@@ -259,7 +157,63 @@ class ShootingNLP(DropsBuffers):
             return buffered(self, name, lambda: Buffered(self._acceptance, args=self._acceptance_inputs()))
         if name == "acceptance-copy":   # on arrays of its own (an answer given from elsewhere)
             return buffered(self, name, lambda: self._acceptance)
+        if name == "acceptance-compiled":   # the compiled copies (orrc._jit), on the SQP buffer's arrays too
+            return buffered(self, name, lambda: Buffered(self._jit[name].function(), args=self._acceptance_inputs()))
+        if name == "sqp-compiled":
+            return buffered(self, name, self._compiled_sqp)
         return buffered(self, name, lambda: self._nlpsol[name], None, None, self.lbz, self.ubz, 0.0, 0.0, 0.0, 0.0)
+
+    def compile(self, wait: bool = False) -> bool:
+        """Compile the SQP solver (the NLP's functions and derivatives as machine code: about a fifth less time
+        per solve) and the acceptance checks (about 3 µs per solve) with the system's C compiler, in the
+        background (:mod:`orrc._jit`; done by itself after :data:`~orrc._jit.COMPILE_AFTER` SQP solves). Both
+        give the interpreted ones' answers bit for bit and are used once ready. ``wait``: until both are ready
+        or failed. Returns whether both are ready (:meth:`compile_error` says why not)."""
+        if SQP not in self._nlpsol:
+            return False
+        for name in ("acceptance", SQP):
+            key = f"{name}-compiled"
+            if key not in self._jit:
+                try:
+                    self._jit[key] = (compiled_function(self._acceptance) if name == "acceptance" else
+                                      compiled_nlpsol(self._nlpsol[SQP], _PLUGIN[SQP], self.solver_options[SQP]))
+                except RuntimeError as exc:   # no C code for it (e.g. a user's callback among the options)
+                    self._jit[key] = Compiled(name, None, None, error=f"no C code for it: {_last_line(exc)}")
+        if wait:
+            for job in self._jit.values():
+                job.wait()
+        return all(self.compiled(name) is not None for name in ("acceptance", SQP))
+
+    def compiled(self, name: str) -> Buffered | None:
+        """The compiled copy (:meth:`compile`) of the acceptance checks (``"acceptance"``) or of the SQP solver
+        (``"sqp"``) on this thread's SQP buffer's own arrays, once it is ready, else None. After
+        :data:`~orrc._jit.COMPILE_AFTER` SQP solves the first call asks for them (:meth:`compile`)."""
+        key = f"{name}-compiled"
+        job = self._jit.get(key)
+        if job is None:
+            if self.sqp_solves < COMPILE_AFTER or SQP not in self._nlpsol:
+                return None
+            self.compile()
+            job = self._jit[key]
+        return self._call(key) if job.function() is not None else None
+
+    def _compiled_sqp(self) -> Buffered:
+        """The compiled SQP solver on this thread's SQP buffer's own arrays, with its iteration counter."""
+        sqp, job = self._call(SQP), self._jit["sqp-compiled"]
+        call = Buffered(job.function(), args=sqp.args, res=sqp.res)
+        call.counter = job.counter()
+        return call
+
+    def compile_error(self, name: str) -> str | None:
+        """Why the compiled copy ``name`` (:meth:`compiled`) is not used (None: used, building, or not asked
+        for yet)."""
+        job = self._jit.get(f"{name}-compiled")
+        return None if job is None else job.error
+
+    def __getstate__(self):
+        state = super().__getstate__()
+        state["_jit"] = {}   # threads and loaded libraries: made again (from the cache) on demand
+        return state
 
     def _acceptance_inputs(self) -> list:
         """The inputs of the acceptance function (:func:`acceptance_function`: z, g, λ_x, λ_g, p, the guess's
@@ -307,6 +261,9 @@ class ShootingNLP(DropsBuffers):
             guess_U = self._cold_U
         guess_next = np.tile(x, (M, 1)) if guess_X is None else guess_X[1:]  # guess_X: x̃_0..x̃_M (cold_start)
         call = self._call(solver)
+        if solver == SQP:   # the compiled copy, once ready (the same answer, sooner)
+            self.sqp_solves += 1
+            call = self.compiled(SQP) or call
         z0, p = call.args[0], call.args[1]  # written in place: the guess [vec U; x̃_1..x̃_M], the parameters
         z0[: M * m], z0[M * m:] = guess_U.reshape(-1), guess_next.reshape(-1)
         k = n + M * n + P.size
@@ -356,7 +313,7 @@ class ShootingNLP(DropsBuffers):
         from one compiled CasADi function (:func:`acceptance_function`); ``in_place``: the answer is in
         the SQP buffer (:meth:`solve`), whose arrays the function reads without a copy."""
         if in_place:   # the solver's own buffers: the checks read its answer, p and the guess where they are
-            check = self._call("acceptance")
+            check = self.compiled("acceptance") or self._call("acceptance")
             check.evaluate()
         else:
             check = self._call("acceptance-copy")

@@ -14,6 +14,17 @@ controller's failure ladder, which solves it again from the same guess and climb
 closed loop's arrays, until a step is not accepted (the simulator then records the run's statuses in
 one assignment: every step of it has the same).
 
+**Compiled after a while.** Once :data:`~orrc._jit.COMPILE_AFTER` SQP solves have been made on an NLP (or
+after :meth:`ShootingNLP.compile <orrc.solvers.nlp.ShootingNLP.compile>`), compiled copies of the SQP
+solver (the NLP's functions and derivatives as machine code instead of CasADi's interpreter: about a fifth
+of a step) and of the acceptance checks (about 3 µs a step) are built in the background by the system's
+C compiler and cached (:mod:`orrc._jit`); the warm step uses each from the first run after it is ready.
+They give the interpreted ones' answers and verdicts bit for bit, so a run's record does not depend on
+when they arrive; without a C compiler the interpreted ones stay. The compiled solver also counts its
+SQP iterations (one Hessian of the Lagrangian each, :func:`orrc._jit.compiled_nlpsol`): its count is read
+in 0.1 µs at every step, checked against the statistics on its first :data:`COUNTER_CHECKS` solves in a
+thread, and no statistics are read after that.
+
 **The per-step record without a statistics read per step.** Each accepted step is recorded with the
 solver's status and iteration count, as :meth:`ShootingNLP.solve` records them. CasADi's Python API
 gives the iteration count only inside the solver's statistics (``FunctionBuffer.stats()``: a
@@ -45,6 +56,10 @@ from .nlp import SQP, ShootingNLP
 from .plan import Plan
 
 
+#: a compiled solver's iteration counter is checked against its statistics on its first solves in a thread
+COUNTER_CHECKS = 2
+
+
 class WarmSQP:
     """The warm SQP step of ``nlp`` (a :class:`ShootingNLP` whose first solver is SQP) with the cost's own
     parameters ``P`` (M, n_params; a step may give the previewed ones instead) and model parameters
@@ -53,12 +68,12 @@ class WarmSQP:
     def __init__(self, nlp: ShootingNLP, P, theta=None):
         self.nlp = nlp
         M, n, m = self.M, self.n, self.m = nlp.M, nlp.n, nlp.m
-        self.call = call = nlp._call(SQP)
-        self.check = nlp._call("acceptance")
-        self._evaluate, self._buffer = call._evaluate, call.buffer
+        self._use_solver(nlp._call(SQP))
+        call = self.call
         self.z0, self.p, self.z, self.f = call.args[0], call.args[1], call.res[0], call.res[1]
-        self.verdict, self.shifted = self.check.res   # the checks (entry 6: 1 if accepted), z shifted by a step
-        self._check = self.check._evaluate
+        self._use_check(nlp._call("acceptance"))
+        #: the solver and the checks are the compiled copies (:meth:`ShootingNLP.compiled`)
+        self.compiled = False
         self.nu, self.nw = M * m, n + M * n
         # the cost's parameters and θ: the same at every step of a time-invariant cost (as every solve writes them)
         self.p[self.nw:] = np.concatenate([np.asarray(P, float).reshape(-1), [] if theta is None else
@@ -67,6 +82,25 @@ class WarmSQP:
         opts = nlp.solver_options[SQP]
         #: success known from error_on_fail, and one QP per iteration: a statistics read every second step
         self.every_other = bool(opts.get("error_on_fail")) and not opts.get("elastic_mode") and not opts.get("so_corr")
+
+    def _use_solver(self, call: Buffered) -> None:
+        """Solve with ``call`` (the SQP solver on the arrays every other part reads)."""
+        self.call, self._evaluate, self._buffer = call, call._evaluate, call.buffer
+
+    def _use_check(self, check: Buffered) -> None:
+        """Evaluate the acceptance checks with ``check`` (on the solver's own arrays)."""
+        self.check, self._check = check, check._evaluate
+        self.verdict, self.shifted = check.res   # the checks (entry 6: 1 if accepted), z shifted by a step
+
+    def _use_compiled(self) -> None:
+        """The solver and the checks compiled to machine code, where ready (:meth:`ShootingNLP.compile`: the
+        same answers and verdicts, bit for bit; each used from the first run after it is ready)."""
+        solver, check = self.nlp.compiled(SQP), self.nlp.compiled("acceptance")
+        if solver is not None and solver is not self.call:
+            self._use_solver(solver)
+        if check is not None and check is not self.check:
+            self._use_check(check)
+        self.compiled = solver is not None and check is not None
 
     def set_guess(self, inputs, states) -> None:
         """The guess of the next solve: ``inputs`` (M, m) and states x̃_0..x̃_M (M+1, n; x̃_0 is replaced by the
@@ -87,6 +121,9 @@ class WarmSQP:
         non-finite or rejected answer) leaves the buffer's guess unchanged for the failure ladder. Every
         count is written before it returns (the module docstring: a pending count is read with the next
         solve's statistics, or at the end)."""
+        if not self.compiled:
+            self._use_compiled()
+        first = t
         p, n, nw, M, m, call = self.p, self.n, self.nw, self.M, self.m, self.call
         solve, check, verdict, shifted = self._evaluate, self._check, self.verdict, self.shifted
         z, z0, good, read, ret, value = self.z, self.z0, self.good, call.read_stats, self._buffer.ret, self.f
@@ -97,6 +134,8 @@ class WarmSQP:
         if plant is not None:
             feval, fout = plant._evaluate, plant.res[0]
         pending, base = -1, None   # the step whose count is not read yet; (n_call_QP, n_call_nlp_jac_fg) then
+        counter = call.counter if every_other else None   # a compiled solver's own count of its iterations
+        calls = counter.value if counter is not None else 0
         while t < stop:
             px[:] = X[t]
             pw[:] = w[t * n:(t + M) * n]
@@ -111,7 +150,18 @@ class WarmSQP:
             check()
             if verdict[6] != 1.0:
                 break
-            if pending < 0 and base is not None and call.counts_accumulate:
+            if counter is not None:   # one Hessian per iteration, counted by the compiled solver
+                c = counter.value - calls
+                calls += c
+                if call.counter_checks < COUNTER_CHECKS:   # the buffer's first solves: the statistics agree?
+                    read_c = read()["iter_count"]
+                    if read_c == c:
+                        call.counter_checks += 1
+                    else:   # not one Hessian per iteration (e.g. a quasi-Newton option): the statistics from now on
+                        call.counter = counter = None
+                        c = read_c
+                iters[t] = c
+            elif pending < 0 and base is not None and call.counts_accumulate:
                 pending = t   # counted with the next solve's statistics
             else:
                 stats = read()
@@ -144,6 +194,7 @@ class WarmSQP:
                 _count(iters, pending, stats["n_call_QP"] - base[0] - max(stats["iter_count"], 0))
             else:          # the pending step was the last solve of the run
                 iters[pending] = stats["iter_count"]
+        self.nlp.sqp_solves += t - first
         return t
 
     def plan(self, x, value: float) -> Plan:
