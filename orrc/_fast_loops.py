@@ -118,8 +118,10 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
             X[t + 1] = step(X_read[t], U[t], wpad[t])
     status, solver, has_value = rec.status, rec.solver, rec.has_value
     t, guess = 0, ladder.warm_start(0) is None
-    if guess:   # the first rung of step 0: SQP from the cold start
-        warm.set_guess(warm.nlp.cold_start(X[0])[0], np.broadcast_to(X[0], (M + 1, n)))
+    if guess:   # the first rung of step 0: SQP from the cold start (its inputs; the state held at x_0)
+        z0, nu = warm.z0, warm.nu
+        z0[:nu] = warm.nlp.cold_start(X[0])[0].reshape(-1)
+        z0[nu:].reshape(M, n)[:] = X[0]
     while t < T:
         if guess:
             start = t
