@@ -134,10 +134,15 @@ def test_runs_in_other_threads_use_their_own_warm_step_and_are_the_same_run():
     w = orrc.disturbances.uniform_ball(60, 2, radius=0.02, seed=5)
     first = _run(rhc, EX.x0, w, 25)
     results, warms = {}, {}
+    together = threading.Barrier(3)   # the copies' threads all alive at once (a thread id is reused after)
 
     def job(name, controller):
+        if name.startswith("copy"):
+            together.wait(timeout=60)
         warms[name] = controller.fast_nlp()
         results[name] = _run(controller, EX.x0, w, 25)
+        if name.startswith("copy"):
+            together.wait(timeout=60)
 
     for name in ("a", "b"):
         thread = threading.Thread(target=job, args=(name, rhc))
