@@ -98,6 +98,9 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     warm, ladder = controller.fast_nlp(), controller.failures
     m, z, M = U.shape[1], warm.z, warm.M
     n = X.shape[1]
+    made = _MADE.get(warm)
+    if made is None:   # the cold start's inputs (the same at every state)
+        made = _MADE[warm] = {"cold inputs": warm.nlp.cold_start(X[0])[0].reshape(-1)}
     wflat = wpad.reshape(-1)   # the preview of step t: its rows t..t+M-1, vec(w_t..w_{t+M-1})
     cp = rec.cparams if rec.Mc else None   # a cost sequence: the parameters of c_t..c_{t+M-1} at step t
     cflat, k = (np.ascontiguousarray(cp).reshape(-1), cp.shape[1]) if cp is not None else (None, 0)
@@ -106,10 +109,10 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         # where an accepted warm step leaves them, x_t and w_t (the preview's first row) in the solver's
         # parameters, u_t in its answer (no copies); made once per warm step and plant
         fn = step.__self__.function
-        made = _PLANTS.get(warm)
-        if made is None or made[0] is not fn:
-            made = _PLANTS[warm] = (fn, Buffered(fn, args=[warm.p[:n], z[:m], warm.p[n:2 * n]]))
-        advance = made[1]
+        plant = made.get("plant")
+        if plant is None or plant[0] is not fn:
+            plant = made["plant"] = (fn, Buffered(fn, args=[warm.p[:n], z[:m], warm.p[n:2 * n]]))
+        advance = plant[1]
     elif step is None:
         def advance(t):
             X[t + 1] = A @ X_read[t] + B @ U[t] + wpad[t]
@@ -120,7 +123,7 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     t, guess = 0, ladder.warm_start(0) is None
     if guess:   # the first rung of step 0: SQP from the cold start (its inputs; the state held at x_0)
         z0, nu = warm.z0, warm.nu
-        z0[:nu] = warm.nlp.cold_start(X[0])[0].reshape(-1)
+        z0[:nu] = made["cold inputs"]
         z0[nu:].reshape(M, n)[:] = X[0]
     while t < T:
         if guess:
@@ -143,9 +146,10 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
             warm.set_guess(shifted[0], shifted[1])
 
 
-#: the plant's step on a warm step's buffers (:func:`nlp_loop`), made once per warm step (once per controller
-#: and thread, :meth:`orrc.PreviewRHC.fast_nlp`) and plant: {WarmSQP: (the plant's Function, its Buffered)}
-_PLANTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: what :func:`nlp_loop` makes once per warm step (once per controller and thread,
+#: :meth:`orrc.PreviewRHC.fast_nlp`), not per run: {WarmSQP: {"cold inputs": the cold start's inputs, flat;
+#: "plant": (the plant's Function, its step on the warm step's buffers, a Buffered)}}
+_MADE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def record_fast_steps(controller, rec: Record) -> None:

@@ -82,7 +82,7 @@ def as_array(name: str, value, shape: tuple | None = None, *, ndim: int | None =
             raise OrrcValueError(f"{name} must have shape {want}; got shape {arr.shape}")
     if not allow_empty and arr.size == 0:
         raise OrrcValueError(f"{name} must not be empty; got shape {arr.shape}")
-    if not allow_nonfinite and not np.all(np.isfinite(arr)):
+    if not allow_nonfinite and not np.isfinite(arr).all():
         raise OrrcValueError(f"{name} must be finite; got non-finite entries (NaN or inf)")
     return arr
 

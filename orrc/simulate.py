@@ -193,7 +193,8 @@ def _check_divergence(controller, rec: Record) -> None:
     tells that every entry is finite (one inf or NaN makes it inf or NaN; a finite sum has none); only
     where it is not (or it overflowed: called with overflow warnings off) are the entries looked at."""
     X, U, T = rec.X, rec.U, rec.T
-    if math.isfinite(X.sum() + U.sum()) or (np.isfinite(X).all() and np.isfinite(U).all()):
+    if math.isfinite(np.add.reduce(X, axis=None) + np.add.reduce(U, axis=None)) or \
+            (np.isfinite(X).all() and np.isfinite(U).all()):
         return
     bad_x = int(np.argmax(~np.all(np.isfinite(X), axis=1)))
     bad_u = int(np.argmax(~np.all(np.isfinite(U), axis=1))) if not np.all(np.isfinite(U)) else T + 1

@@ -187,11 +187,12 @@ class Record:
         self.X = np.empty((T + 1, n))
         self.U = np.empty((T, m))
         self.C = np.empty(T)
-        self.V = np.full(T, np.nan)
-        self.has_value = np.zeros(T, dtype=bool)
-        self.deferred = np.zeros(T, dtype=bool)
-        self.reported_nonfinite = np.zeros(T, dtype=bool)
-        self.ok = np.ones(T, dtype=bool)
+        self.V = np.empty(T)
+        self.V.fill(np.nan)
+        # (the flags the trajectory does not hand on: rows of one array)
+        self.has_value, self.deferred, self.reported_nonfinite = np.zeros((3, T), dtype=bool)
+        self.ok = np.empty(T, dtype=bool)
+        self.ok.fill(True)
         self.status, self.solver, self.fallback = [""] * T, [None] * T, [None] * T
         self.iters = np.zeros(T, dtype=int)
         self.times = np.zeros(T)
@@ -243,7 +244,8 @@ class Record:
                 if not all_ok:
                     Vs[~oks] = np.nan  # a failed solve has no optimal value, whatever the controller reported
                 values = Vs if whole else Vs.copy()
-            finite = math.isfinite(Cs.sum() + sig.sum() + (0.0 if values is None else values.sum()))
+            add = np.add.reduce
+            finite = math.isfinite(add(Cs) + add(sig) + (0.0 if values is None else add(values)))
         if values is not None:
             valid = oks.copy() if finite else oks & np.isfinite(values)
         reported = self.reported_nonfinite[:steps]
