@@ -190,7 +190,10 @@ class Record:
         self.V = np.empty(T)
         self.V.fill(np.nan)
         # (the flags the trajectory does not hand on: rows of one array)
-        self.has_value, self.deferred, self.reported_nonfinite = np.zeros((3, T), dtype=bool)
+        self.flags = np.zeros((3, T), dtype=bool)
+        self.has_value, self.deferred, self.reported_nonfinite = self.flags
+        #: every step's solve succeeded (known after :meth:`trajectory`)
+        self.all_ok = True
         self.ok = np.empty(T, dtype=bool)
         self.ok.fill(True)
         self.status, self.solver, self.fallback = [""] * T, [None] * T, [None] * T
@@ -226,11 +229,14 @@ class Record:
             Xs, Us, Cs, Vs, oks = self.X[:steps + 1], self.U[:steps], self.C[:steps], self.V[:steps], self.ok[:steps]
             has_value = self.has_value[:steps]
         with np.errstate(over="ignore", invalid="ignore"):  # an overflowed cost, σ or V_M is reported below
-            if self.deferred[:steps].any():  # V_M of the deferred steps: one call for the whole run
+            n_value, n_deferred, n_reported = self.flags[:, :steps].sum(axis=1).tolist()
+            if n_deferred:  # V_M of the deferred steps: one call for the whole run
                 _batch_values(controller, Xs, self.wpad, Mw, self.deferred[:steps], Vs, has_value)
+                n_value = int(np.count_nonzero(has_value))
             if self.quadratic:
                 Q, R = stage.Q, stage.R
-                Cs[:] = np.einsum("ti,ti->t", Xs[:-1] @ Q, Xs[:-1]) + np.einsum("ti,ti->t", Us @ R, Us)
+                Xt = Xs[:-1]
+                Cs[:] = np.einsum("ti,ti->t", Xt @ Q, Xt) + np.einsum("ti,ti->t", Us @ R, Us)
             if type(stage).sigma is StageCost.sigma:   # Σ_i x_i², never negative (NaN is not < 0)
                 sig = np.einsum("ij,ij->i", Xs, Xs)
             else:
@@ -239,8 +245,8 @@ class Record:
                     raise OrrcValueError(f"the cost's sigma(x) must be >= 0 (Assumption 2); it is {sig.min():.3g} "
                                          f"at t={int(np.argmin(sig))}")
             values = valid = None
-            all_ok = bool(oks.all())
-            if steps and has_value.all():
+            self.all_ok = all_ok = bool(oks.all())
+            if steps and n_value == steps:
                 if not all_ok:
                     Vs[~oks] = np.nan  # a failed solve has no optimal value, whatever the controller reported
                 values = Vs if whole else Vs.copy()
@@ -248,10 +254,9 @@ class Record:
             finite = math.isfinite(add(Cs) + add(sig) + (0.0 if values is None else add(values)))
         if values is not None:
             valid = oks.copy() if finite else oks & np.isfinite(values)
-        reported = self.reported_nonfinite[:steps]
-        if not finite or reported.any():
+        if not finite or n_reported:
             report = _nonfinite_report(controller.name, Cs, sig, values, oks if values is not None else None,
-                                       reported & oks)
+                                       self.reported_nonfinite[:steps] & oks)
             if report:
                 warnings.warn(report, NonFiniteWarning, stacklevel=stacklevel)
         alpha_lo = seq.alpha_lo if seq is not None else stage.alpha_lo
