@@ -173,8 +173,8 @@ class Record:
     """What a run of T steps writes, step by step: x_t (``X``, row 0 = x_0), u_t (``U``), c_t (``C``,
     filled after the loop for a time-invariant quadratic cost), V_M (``V``; ``has_value`` where the
     controller reported it, ``deferred`` where it comes from ``values_batch`` after the loop,
-    ``reported_nonfinite`` where it reported NaN or inf at a successful step), and the solver's report
-    of each step (``ok``, ``status``, ``solver``, ``fallback``, ``iters``, ``times``).
+    ``reported_nonfinite`` where it reported NaN or inf at a successful step: the rows of ``flags``), and
+    the solver's report of each step (``ok``, ``status``, ``solver``, ``fallback``, ``iters``, ``times``).
 
     ``X_read`` is a read-only view of ``X``: its rows are what a controller is handed as x_t.
     ``wpad`` is the read-only disturbance record (w plus the preview tail, zeros past the data);
