@@ -10,6 +10,8 @@ the loop of the paper's information pattern in :mod:`orrc.simulate`.
 """
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from ._casadi import Buffered
@@ -80,26 +82,37 @@ def fast_input_loop(controller, rec: Record, step, A, B) -> None:
 
 def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     """The closed loop of a receding-horizon controller on the NLP path (``controller.fast_nlp()``, a
-    :class:`~orrc.solvers.warm_sqp.WarmSQP`): each run of steps solved by SQP from the previous plan shifted,
-    and accepted by its checks, is taken by :meth:`WarmSQP.run <orrc.solvers.warm_sqp.WarmSQP.run>`, which
-    records u_t, V_M, the seconds and iterations in place, with no Observation, Decision or Plan; its
-    statuses and solver, and the stage costs of a non-quadratic cost, are recorded after the run. Every
-    other step (the first one, a step the warm solve does not accept, the steps after a failed one) is
+    :class:`~orrc.solvers.warm_sqp.WarmSQP`): each run of steps solved by SQP and accepted by its checks is
+    taken by :meth:`WarmSQP.run <orrc.solvers.warm_sqp.WarmSQP.run>`, which records u_t, V_M, the seconds and
+    iterations in place, with no Observation, Decision or Plan; its statuses and solver, and the stage costs
+    of a non-quadratic cost, are recorded after the run. A run starts from the guess of the failure ladder's
+    first rung: at t = 0 the SQP cold start (the ladder has no plan to shift yet: the NLP's
+    :meth:`~orrc.solvers.nlp.ShootingNLP.cold_start`), after a step of the controller's own the previous plan
+    shifted. Every other step (one the warm solve does not accept, the steps after a failed one) is
     ``general_step(t)``, the controller's own :meth:`~orrc.Controller.control` in the loop of the information
-    pattern, after its failure ladder (``controller.failures``) is handed the last plan accepted in a run.
-    The same inputs, values and record as :func:`orrc.simulate`'s loop of the information pattern."""
+    pattern, after its failure ladder (``controller.failures``) is handed the last plan accepted in a run; a
+    step not accepted leaves the guess as it was, and the ladder solves it again from the same guess (the
+    same answer) before it climbs its rungs. The same inputs, values and record as :func:`orrc.simulate`'s
+    loop of the information pattern."""
     T, X, X_read, U, wpad = rec.T, rec.X, rec.X_read, rec.U, rec.wpad
     warm, ladder = controller.fast_nlp(), controller.failures
-    m, z = U.shape[1], warm.z
+    m, z, M = U.shape[1], warm.z, warm.M
     n = X.shape[1]
+    made = _MADE.get(warm)
+    if made is None:   # the cold start's inputs (the same at every state)
+        made = _MADE[warm] = {"cold inputs": warm.nlp.cold_start(X[0])[0].reshape(-1)}
     wflat = wpad.reshape(-1)   # the preview of step t: its rows t..t+M-1, vec(w_t..w_{t+M-1})
     cp = rec.cparams if rec.Mc else None   # a cost sequence: the parameters of c_t..c_{t+M-1} at step t
     cflat, k = (np.ascontiguousarray(cp).reshape(-1), cp.shape[1]) if cp is not None else (None, 0)
     if step is not None and getattr(step, "__func__", None) is NonlinearSystem._step:
         # the plant on the solver's buffers (as a NonlinearSystem's _step evaluates): f(x_t, u_t, w_t) read
         # where an accepted warm step leaves them, x_t and w_t (the preview's first row) in the solver's
-        # parameters, u_t in its answer (no copies)
-        advance = Buffered(step.__self__.function, args=[warm.p[:n], z[:m], warm.p[n:2 * n]])
+        # parameters, u_t in its answer (no copies); made once per warm step and plant
+        fn = step.__self__.function
+        plant = made.get("plant")
+        if plant is None or plant[0] is not fn:
+            plant = made["plant"] = (fn, Buffered(fn, args=[warm.p[:n], z[:m], warm.p[n:2 * n]]))
+        advance = plant[1]
     elif step is None:
         def advance(t):
             X[t + 1] = A @ X_read[t] + B @ U[t] + wpad[t]
@@ -107,22 +120,36 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         def advance(t):
             X[t + 1] = step(X_read[t], U[t], wpad[t])
     status, solver, has_value = rec.status, rec.solver, rec.has_value
-    t = 0
+    t, guess = 0, ladder.warm_start(0) is None
+    if guess:   # the first rung of step 0: SQP from the cold start (its inputs; the state held at x_0)
+        z0, nu = warm.z0, warm.nu
+        z0[:nu] = made["cold inputs"]
+        z0[nu:].reshape(M, n)[:] = X[0]
     while t < T:
+        if guess:
+            start = t
+            t = warm.run(t, T, X, U, rec.V, rec.times, rec.iters, wflat, cflat, k, advance)
+            if t > start:   # steps start..t-1 taken by the warm loop: SQP solved them
+                status[start:t], solver[start:t], has_value[start:t] = \
+                    [SQP_SOLVED] * (t - start), [SQP] * (t - start), True
+                if not rec.quadratic:
+                    for s in range(start, t):
+                        rec.C[s] = rec.stage_cost(X_read[s], U[s], None if cp is None else cp[s])
+                ladder.succeeded(t - 1, warm.plan(X_read[t - 1], float(rec.V[t - 1])))
+            if t == T:
+                break
         general_step(t)   # the controller's own step (its failure ladder)
         t += 1
-        shifted = ladder.warm_start(t)
-        if t == T or shifted is None or shifted[2] != 1 or not rec.ok[t - 1]:
-            continue
-        warm.set_guess(shifted[0], shifted[1])
-        start = t
-        t = warm.run(t, T, X, U, rec.V, rec.times, rec.iters, wflat, cflat, k, advance)
-        if t > start:   # steps start..t-1 taken by the warm loop: SQP solved them
-            status[start:t], solver[start:t], has_value[start:t] = [SQP_SOLVED] * (t - start), [SQP] * (t - start), True
-            if not rec.quadratic:
-                for s in range(start, t):
-                    rec.C[s] = rec.stage_cost(X_read[s], U[s], None if cp is None else cp[s])
-            ladder.succeeded(t - 1, warm.plan(X_read[t - 1], float(rec.V[t - 1])))
+        shifted = ladder.warm_start(t) if t < T and rec.ok[t - 1] else None
+        guess = shifted is not None and shifted[2] == 1
+        if guess:
+            warm.set_guess(shifted[0], shifted[1])
+
+
+#: what :func:`nlp_loop` makes once per warm step (once per controller and thread,
+#: :meth:`orrc.PreviewRHC.fast_nlp`), not per run: {WarmSQP: {"cold inputs": the cold start's inputs, flat;
+#: "plant": (the plant's Function, its step on the warm step's buffers, a Buffered)}}
+_MADE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def record_fast_steps(controller, rec: Record) -> None:

@@ -75,14 +75,14 @@ def as_array(name: str, value, shape: tuple | None = None, *, ndim: int | None =
         raise OrrcValueError(f"{name} must be numeric; got {_describe(value)}") from exc
     if ndim is not None and arr.ndim != ndim:
         raise OrrcValueError(f"{name} must be {ndim}-dimensional; got shape {arr.shape}")
-    if shape is not None:
+    if shape is not None and arr.shape != shape:   # (equal: no free dimension to match)
         ok = arr.ndim == len(shape) and all(s is None or s == d for s, d in zip(shape, arr.shape))
         if not ok:
             want = "(" + ", ".join("any" if s is None else str(s) for s in shape) + ")"
             raise OrrcValueError(f"{name} must have shape {want}; got shape {arr.shape}")
     if not allow_empty and arr.size == 0:
         raise OrrcValueError(f"{name} must not be empty; got shape {arr.shape}")
-    if not allow_nonfinite and not np.all(np.isfinite(arr)):
+    if not allow_nonfinite and not np.isfinite(arr).all():
         raise OrrcValueError(f"{name} must be finite; got non-finite entries (NaN or inf)")
     return arr
 
@@ -100,9 +100,10 @@ def as_square(name: str, value, n: int | None = None) -> np.ndarray:
 
 def as_int(name: str, value, minimum: int | None = None, maximum: int | None = None) -> int:
     """An integer (not a bool, not a float such as 2.0) within [minimum, maximum]."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise OrrcValueError(f"{name} must be an integer; got {_describe(value)}")
-    value = int(value)
+    if type(value) is not int:   # (a plain int, the common case, needs no check of its type's ABCs)
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise OrrcValueError(f"{name} must be an integer; got {_describe(value)}")
+        value = int(value)
     if minimum is not None and value < minimum:
         raise OrrcValueError(f"{name} must be an integer >= {minimum}; got {value}")
     if maximum is not None and value > maximum:

@@ -38,6 +38,7 @@ its checks are :mod:`orrc.trajectory`'s.
 """
 from __future__ import annotations
 
+import math
 import time
 import warnings
 
@@ -90,10 +91,10 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
         else:
             loop(controller, rec, step, A, B)
             record_fast_steps(controller, rec)
-    wall = time.perf_counter() - start
-    _check_divergence(controller, rec)
+        wall = time.perf_counter() - start
+        _check_divergence(controller, rec)
     traj = rec.trajectory(rec.T, wall)
-    if not rec.ok.all():
+    if not rec.all_ok:
         warnings.warn(failure_summary(controller.name, rec.T, rec.ok, rec.status, rec.fallback), SolverWarning,
                       stacklevel=2)
     return traj
@@ -188,9 +189,12 @@ def _prepare(system, controller, x0, w, T, costs) -> Record:
 
 
 def _check_divergence(controller, rec: Record) -> None:
-    """``FloatingPointError`` naming the first step where the state or the input is not finite."""
+    """``FloatingPointError`` naming the first step where the state or the input is not finite. One sum
+    tells that every entry is finite (one inf or NaN makes it inf or NaN; a finite sum has none); only
+    where it is not (or it overflowed: called with overflow warnings off) are the entries looked at."""
     X, U, T = rec.X, rec.U, rec.T
-    if np.all(np.isfinite(X)) and np.all(np.isfinite(U)):
+    if math.isfinite(np.add.reduce(X, axis=None) + np.add.reduce(U, axis=None)) or \
+            (np.isfinite(X).all() and np.isfinite(U).all()):
         return
     bad_x = int(np.argmax(~np.all(np.isfinite(X), axis=1)))
     bad_u = int(np.argmax(~np.all(np.isfinite(U), axis=1))) if not np.all(np.isfinite(U)) else T + 1

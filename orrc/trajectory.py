@@ -9,6 +9,7 @@ here too (:func:`failure_summary`).
 """
 from __future__ import annotations
 
+import math
 import warnings
 from collections import Counter
 from dataclasses import dataclass, field
@@ -172,8 +173,8 @@ class Record:
     """What a run of T steps writes, step by step: x_t (``X``, row 0 = x_0), u_t (``U``), c_t (``C``,
     filled after the loop for a time-invariant quadratic cost), V_M (``V``; ``has_value`` where the
     controller reported it, ``deferred`` where it comes from ``values_batch`` after the loop,
-    ``reported_nonfinite`` where it reported NaN or inf at a successful step), and the solver's report
-    of each step (``ok``, ``status``, ``solver``, ``fallback``, ``iters``, ``times``).
+    ``reported_nonfinite`` where it reported NaN or inf at a successful step: the rows of ``flags``), and
+    the solver's report of each step (``ok``, ``status``, ``solver``, ``fallback``, ``iters``, ``times``).
 
     ``X_read`` is a read-only view of ``X``: its rows are what a controller is handed as x_t.
     ``wpad`` is the read-only disturbance record (w plus the preview tail, zeros past the data);
@@ -186,11 +187,15 @@ class Record:
         self.X = np.empty((T + 1, n))
         self.U = np.empty((T, m))
         self.C = np.empty(T)
-        self.V = np.full(T, np.nan)
-        self.has_value = np.zeros(T, dtype=bool)
-        self.deferred = np.zeros(T, dtype=bool)
-        self.reported_nonfinite = np.zeros(T, dtype=bool)
-        self.ok = np.ones(T, dtype=bool)
+        self.V = np.empty(T)
+        self.V.fill(np.nan)
+        # (the flags the trajectory does not hand on: rows of one array)
+        self.flags = np.zeros((3, T), dtype=bool)
+        self.has_value, self.deferred, self.reported_nonfinite = self.flags
+        #: every step's solve succeeded (known after :meth:`trajectory`)
+        self.all_ok = True
+        self.ok = np.empty(T, dtype=bool)
+        self.ok.fill(True)
         self.status, self.solver, self.fallback = [""] * T, [None] * T, [None] * T
         self.iters = np.zeros(T, dtype=int)
         self.times = np.zeros(T)
@@ -209,36 +214,57 @@ class Record:
             self.C[t] = self.stage_cost(self.X[t], self.U[t], None if cp is None else cp[t])
 
     def trajectory(self, steps: int, wall: float, stacklevel: int = 3):
-        """The :class:`Trajectory` of the first ``steps`` steps (all T, or the steps before a SolverError)."""
+        """The :class:`Trajectory` of the first ``steps`` steps (all T, or the steps before a SolverError).
+
+        Every check runs on every run, in as few passes as it takes: one sum over the stage costs, σ(x_t) and
+        V_M tells that they are all finite (a sum of finite numbers is finite unless it overflows, and one
+        inf or NaN entry makes it inf or NaN), and only a run where it is not looks for the steps. Of a
+        whole run (``steps`` = T) the trajectory takes over the arrays no controller was handed (u_t, c_t,
+        V_M and the solver's report; the record is not used after it) instead of copying them."""
         controller, stage, seq, Mw = self.controller, self.stage, self.seq, self.Mw
-        Xs, Us, Cs, Vs, oks = self.X[:steps + 1], self.U[:steps], self.C[:steps], self.V[:steps], self.ok[:steps]
-        has_value = self.has_value[:steps]
-        if self.deferred[:steps].any():  # V_M of the deferred steps: one call for the whole run
-            with np.errstate(over="ignore", invalid="ignore"):  # an overflowed V_M is reported below
+        whole = steps == len(self.U)
+        if whole:
+            Xs, Us, Cs, Vs, oks, has_value = self.X, self.U, self.C, self.V, self.ok, self.has_value
+        else:
+            Xs, Us, Cs, Vs, oks = self.X[:steps + 1], self.U[:steps], self.C[:steps], self.V[:steps], self.ok[:steps]
+            has_value = self.has_value[:steps]
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflowed cost, σ or V_M is reported below
+            n_value, n_deferred, n_reported = self.flags[:, :steps].sum(axis=1).tolist()
+            if n_deferred:  # V_M of the deferred steps: one call for the whole run
                 _batch_values(controller, Xs, self.wpad, Mw, self.deferred[:steps], Vs, has_value)
-        if self.quadratic:
-            Q, R = stage.Q, stage.R
-            with np.errstate(over="ignore", invalid="ignore"):
-                Cs[:] = np.einsum("ti,ti->t", Xs[:-1] @ Q, Xs[:-1]) + np.einsum("ti,ti->t", Us @ R, Us)
-        with np.errstate(over="ignore", invalid="ignore"):
-            sig = np.einsum("ij,ij->i", Xs, Xs) if type(stage).sigma is StageCost.sigma else \
-                np.array([stage.sigma(x) for x in Xs])
-        if np.any(sig < 0):
-            raise OrrcValueError(f"the cost's sigma(x) must be >= 0 (Assumption 2); it is {sig.min():.3g} at "
-                                 f"t={int(np.argmin(sig))}")
-        values = valid = None
-        if steps and has_value.all():
-            Vs[~oks] = np.nan  # a failed solve has no optimal value, whatever the controller reported
-            values, valid = Vs.copy(), oks & np.isfinite(Vs)
-        report = _nonfinite_report(controller.name, Cs, sig, values, oks if values is not None else None,
-                                   self.reported_nonfinite[:steps] & oks)
-        if report:
-            warnings.warn(report, NonFiniteWarning, stacklevel=stacklevel)
+                n_value = int(np.count_nonzero(has_value))
+            if self.quadratic:
+                Q, R = stage.Q, stage.R
+                Xt = Xs[:-1]
+                Cs[:] = np.einsum("ti,ti->t", Xt @ Q, Xt) + np.einsum("ti,ti->t", Us @ R, Us)
+            if type(stage).sigma is StageCost.sigma:   # Σ_i x_i², never negative (NaN is not < 0)
+                sig = np.einsum("ij,ij->i", Xs, Xs)
+            else:
+                sig = np.array([stage.sigma(x) for x in Xs])
+                if np.any(sig < 0):
+                    raise OrrcValueError(f"the cost's sigma(x) must be >= 0 (Assumption 2); it is {sig.min():.3g} "
+                                         f"at t={int(np.argmin(sig))}")
+            values = valid = None
+            self.all_ok = all_ok = bool(oks.all())
+            if steps and n_value == steps:
+                if not all_ok:
+                    Vs[~oks] = np.nan  # a failed solve has no optimal value, whatever the controller reported
+                values = Vs if whole else Vs.copy()
+            add = np.add.reduce
+            finite = math.isfinite(add(Cs) + add(sig) + (0.0 if values is None else add(values)))
+        if values is not None:
+            valid = oks.copy() if finite else oks & np.isfinite(values)
+        if not finite or n_reported:
+            report = _nonfinite_report(controller.name, Cs, sig, values, oks if values is not None else None,
+                                       self.reported_nonfinite[:steps] & oks)
+            if report:
+                warnings.warn(report, NonFiniteWarning, stacklevel=stacklevel)
         alpha_lo = seq.alpha_lo if seq is not None else stage.alpha_lo
         wpad = self.wpad
-        return Trajectory(x=Xs.copy(), u=Us.copy(), w=np.array(wpad[:steps]), w_all=np.array(wpad[:steps + max(Mw, 1)]),
-                          costs=Cs.copy(), sigma=sig, values=values, success=oks.copy(), status=self.status[:steps],
-                          iterations=self.iters[:steps].copy(), solve_times=self.times[:steps].copy(),
+        own = (lambda a: a) if whole else np.copy
+        return Trajectory(x=Xs.copy(), u=own(Us), w=np.array(wpad[:steps]), w_all=np.array(wpad[:steps + max(Mw, 1)]),
+                          costs=own(Cs), sigma=sig, values=values, success=own(oks), status=self.status[:steps],
+                          iterations=own(self.iters[:steps]), solve_times=own(self.times[:steps]),
                           controller=controller.name, preview_w=Mw, preview_c=self.Mc, alpha_lo=alpha_lo,
                           wall_time=wall, info=dict(controller.record()), value_valid=valid,
                           fallback=self.fallback[:steps], solver=self.solver[:steps])

@@ -8,10 +8,12 @@ defines (input/state bounds, terminal cost) and which solver fits it is decided 
 from __future__ import annotations
 
 import functools
+import threading
 import warnings
 
 import numpy as np
 
+from .._casadi import DropsBuffers
 from .._validate import OrrcValueError, as_array, as_int
 from .._problem import check_problem
 from ..costs import StageCost
@@ -27,7 +29,7 @@ from ._preview_setup import _NLP_LADDERS, SOLVER_CHOICES, _bounds, _check_solver
 from .failures import DEFAULT_MAX_FAILURES, FailureLadder
 
 
-class PreviewRHC(Controller):
+class PreviewRHC(DropsBuffers, Controller):
     """Algorithm 1 of the paper: at each t solve Eq. (3),
 
         min_{ũ_t..ũ_{t+M-1} ∈ U} Σ_{j=t}^{t+M-1} c_j(x̃_j, ũ_j)  s.t.  x̃_{j+1} = f(x̃_j, ũ_j, w_j), x̃_t = x_t,
@@ -155,13 +157,33 @@ class PreviewRHC(Controller):
         """The warm SQP step (:class:`~orrc.solvers.warm_sqp.WarmSQP`) that :func:`orrc.simulate` runs for
         the common step (:mod:`orrc._fast_loops`; :attr:`failures` and :meth:`control` take the others), or
         None where :meth:`control` takes every step: off the NLP path with SQP first, a preview shorter
-        than M, a subclass's own ``control``, or ``control`` or ``solve`` replaced on the object."""
+        than M, a subclass's own ``control``, or ``control`` or ``solve`` replaced on the object.
+
+        The warm step is built once per controller, NLP and thread, not per run: it holds views of the
+        calling thread's SQP buffer (working memory, :func:`orrc._casadi.buffered`; a pickled or copied
+        controller leaves it behind, :class:`~orrc._casadi.DropsBuffers`) and no state of a run (its guess,
+        answer and last accepted answer are written before they are read). Each call writes the cost's own
+        parameters and the current θ into the solver's parameters, as a new one would (a :meth:`plan` with
+        other cost parameters, or :meth:`set_theta`, may have changed them since)."""
         nlp = self._nlp
         if (not isinstance(nlp, ShootingNLP) or nlp.solvers[0] != SQP or self.preview_w != self.M
                 or type(self).control is not PreviewRHC.control or "control" in self.__dict__
                 or "solve" in nlp.__dict__):
             return None
-        return WarmSQP(nlp, self._default_P, self.theta)
+        try:
+            cache = self.__dict__["_casadi_buffers"]
+        except KeyError:
+            cache = self.__dict__["_casadi_buffers"] = {}
+        key = ("warm SQP", threading.get_ident())
+        warm = cache.get(key)
+        if warm is None or warm.nlp is not nlp:
+            warm = cache[key] = WarmSQP(nlp, self._default_P, self.theta)
+        else:   # the cost's own parameters and θ, where WarmSQP(...) writes them
+            p, nw, k = warm.p, warm.nw, warm.nw + self._default_P.size
+            p[nw:k] = self._default_P.reshape(-1)
+            if self.theta is not None:
+                p[k:] = self.theta
+        return warm
 
     @property
     def failures(self) -> FailureLadder:
