@@ -72,7 +72,7 @@ class Compiled:
     :attr:`error`). :func:`compiled_function` and :func:`compiled_nlpsol` make one."""
 
     def __init__(self, name: str, code: str | None, load, error: str | None = None, counter: str | None = None):
-        self.name, self.error, self._load, self._counter = name, None, load, counter
+        self.name, self.error, self._load, self._counter, self.from_cache = name, None, load, counter, False
         self._fn, self._lib, self._thread, self._pid, self.path = None, None, None, os.getpid(), None
         cc = compiler()
         if cc is None or code is None:
@@ -83,7 +83,9 @@ class Compiled:
             return
         key = hashlib.sha256("\0".join([code, *FLAGS, cc, ca.__version__, sys.platform]).encode()).hexdigest()
         self.path = cache_dir() / f"{name}-{key[:24]}.so"
-        if not self.path.exists():
+        #: the library was in the cache already (else it is built here)
+        self.from_cache = self.path.exists()
+        if not self.from_cache:
             self._thread = threading.Thread(target=self._build, args=(cc, code), name=f"orrc-jit-{name}", daemon=True)
             self._thread.start()
 
