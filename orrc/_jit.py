@@ -172,6 +172,9 @@ def compiled_nlpsol(solver: ca.Function, plugin: str, options: dict) -> Compiled
     return Compiled(name, code, lambda lib: ca.nlpsol(name, plugin, lib, options), counter=counted)
 
 
+#: a compiled solver's iteration counter is checked against its statistics on its first solves in a thread
+#: (in :mod:`orrc.solvers.warm_sqp` and :meth:`orrc.solvers.nlp.ShootingNLP.solve`) before it is trusted alone
+COUNTER_CHECKS = 2
 #: the counter of Hessian evaluations in a compiled NLP's library (:func:`compiled_nlpsol`)
 ITERATIONS = "orrc_hess_l_calls"
 #: where the generated Hessian function starts (the counter goes at the top of its body)

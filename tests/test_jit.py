@@ -75,7 +75,7 @@ def test_a_closed_loop_with_the_compiled_solver_and_checks_is_the_interpreted_on
     assert rhc._nlp.compile_error("sqp") is None and rhc._nlp.compile_error("acceptance") is None
     second = _run(system, rhc, x0, w, costs)
     solver = rhc._nlp._call("sqp-compiled")
-    assert solver.counter is not None and solver.counter_checks == warm_sqp.COUNTER_CHECKS, \
+    assert solver.counter is not None and solver.counter_checks == _jit.COUNTER_CHECKS, \
         "the compiled solver took the warm steps, its iteration counter checked against its statistics"
     monkeypatch.setenv("ORRC_JIT", "0")
     plain = orrc.PreviewRHC(system, cost, **kw)
@@ -190,3 +190,21 @@ def test_a_controller_compiles_when_asked_and_says_why_it_cannot(compile_now, mo
     assert plan.iterations == other.iterations and plan.status == other.status
     lq = orrc.PreviewRHC(orrc.LinearSystem(np.eye(2), np.eye(2)), orrc.QuadraticCost(np.eye(2), np.eye(2)), 5)
     assert not lq.compile(wait=True) and "NLP path" in lq.compile_error()
+
+
+def test_a_cold_step_on_the_compiled_solver_reads_its_iterations_from_its_counter(compile_now):
+    """plan() on the compiled solver: its first solves check the counter against the statistics, later ones
+    read the counter alone; every plan equals the interpreted solver's, iterations and status included."""
+    ex = orrc.examples.inverted_pendulum()
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds)
+    assert rhc.compile(wait=True)
+    solver = rhc._nlp.compiled("sqp")
+    states = [np.array([a, 0.0]) for a in (0.2, 0.5, 1.0, 1.5, 0.3)]
+    W = np.zeros((10, 2))
+    plans = [rhc.plan(x, W) for x in states]
+    assert solver.counter is not None and solver.counter_checks >= _jit.COUNTER_CHECKS
+    plain = orrc.PreviewRHC(ex.system, ex.cost, 10, input_bounds=ex.input_bounds)
+    for x, plan in zip(states, plans):
+        other = plain.plan(x, W)   # interpreted (not compiled: too few solves)
+        assert np.array_equal(plan.inputs, other.inputs) and plan.value == other.value
+        assert (plan.iterations, plan.status, plan.success) == (other.iterations, other.status, other.success)

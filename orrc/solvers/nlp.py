@@ -57,7 +57,7 @@ import casadi as ca
 import numpy as np
 
 from .._casadi import Buffered, DropsBuffers, buffered
-from .._jit import COMPILE_AFTER, Compiled, compiled_function, compiled_nlpsol
+from .._jit import COMPILE_AFTER, COUNTER_CHECKS, Compiled, compiled_function, compiled_nlpsol
 from .._validate import OrrcValueError, check_size
 from .nlp_solvers import (DEFAULT_IPOPT, DEFAULT_SQP, IPOPT, NLP_SOLVERS, OPTION_PREFIX, SOLVER_LABELS,  # noqa: F401
                           SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _split_options)
@@ -259,32 +259,45 @@ class ShootingNLP(DropsBuffers):
         M, n, m = self.M, self.n, self.m
         if guess_U is None:
             guess_U = self._cold_U
-        guess_next = np.tile(x, (M, 1)) if guess_X is None else guess_X[1:]  # guess_X: x̃_0..x̃_M (cold_start)
         call = self._call(solver)
         if solver == SQP:   # the compiled copy, once ready (the same answer, sooner)
             self.sqp_solves += 1
             call = self.compiled(SQP) or call
         z0, p = call.args[0], call.args[1]  # written in place: the guess [vec U; x̃_1..x̃_M], the parameters
-        z0[: M * m], z0[M * m:] = guess_U.reshape(-1), guess_next.reshape(-1)
+        z0[: M * m] = guess_U.reshape(-1)
+        if guess_X is None:   # the cold start's states: x held over the horizon
+            z0[M * m:].reshape(M, n)[:] = x
+        else:                 # guess_X: x̃_0..x̃_M
+            z0[M * m:] = guess_X[1:].reshape(-1)
         k = n + M * n + P.size
         p[:n], p[n:n + M * n], p[n + M * n:k] = x, W.reshape(-1), P.reshape(-1)
         if self.n_theta:
             p[k:] = theta
+        # the compiled solver's own count of its iterations, where an unsuccessful solve raises (orrc._jit)
+        counter = call.counter if solver == SQP and self.solver_options[SQP].get("error_on_fail") else None
+        before = counter.value if counter is not None else 0
         t0 = time.perf_counter()
         try:
-            error = call()
+            error, converged = call(), True
         except RuntimeError as exc:  # e.g. the QP solver of SQP fails inside CasADi: a failed solve
+            converged = False
             error = None if UNSUCCESSFUL in str(exc) else exc   # (not converged: read below, as any answer)
         elapsed = time.perf_counter() - t0
-        stats = call.stats()
-        iterations = int(stats.get("iter_count", 0) or 0)
         if error:
             text = _last_line(error) if isinstance(error, Exception) else f"CasADi return code {error}"
-            return Plan(inputs=guess_U.copy(), states=np.vstack([x, guess_next]), value=float("nan"), success=False,
-                        status=f"error: {text}", iterations=iterations, solve_time=elapsed,
-                        fallback="the initial guess (the solver raised an error)", solver=solver)
-        status = str(stats.get("return_status", "unknown"))
-        success = bool(stats.get("success", False))
+            return Plan(inputs=guess_U.copy(), states=np.vstack([x, self._guess_states(x, guess_X)]), value=float("nan"),
+                        success=False, status=f"error: {text}", iterations=int(call.stats().get("iter_count", 0) or 0),
+                        solve_time=elapsed, fallback="the initial guess (the solver raised an error)", solver=solver)
+        if counter is not None and converged and call.counter_checks >= COUNTER_CHECKS:
+            iterations, status, success = counter.value - before, SQP_SOLVED, True   # no statistics to read
+        else:
+            stats = call.stats()
+            iterations = int(stats.get("iter_count", 0) or 0)
+            status = str(stats.get("return_status", "unknown"))
+            success = bool(stats.get("success", False))
+            if counter is not None and converged:   # the count checked against the statistics, or dropped
+                call.counter_checks, call.counter = ((call.counter_checks + 1, counter)
+                                                     if counter.value - before == iterations else (0, None))
         zopt, value = call.res[0].copy(), float(call.res[1][0])
         U = zopt[: M * m].reshape(M, m)
         X = np.empty((M + 1, n))
@@ -300,12 +313,16 @@ class ShootingNLP(DropsBuffers):
             success = False
             fallback = "the solver's last iterate"
             if not (np.isfinite(U).all() and np.isfinite(X).all()):
-                U, X = guess_U.copy(), np.vstack([x, guess_next])
+                U, X = guess_U.copy(), np.vstack([x, self._guess_states(x, guess_X)])
                 fallback = "the initial guess (the solver's iterate is not finite)"
             if status == "Solve_Succeeded":
                 status = "non-finite result"
         return Plan(inputs=U, states=X, value=value, success=success, status=status, iterations=iterations,
                     solve_time=elapsed, fallback=fallback, solver=solver, extra=extra)
+
+    def _guess_states(self, x, guess_X) -> np.ndarray:
+        """The guess's states x̃_1..x̃_M (M, n): ``guess_X[1:]``, or x held (the cold start)."""
+        return np.tile(x, (self.M, 1)) if guess_X is None else guess_X[1:]
 
     def _rejection(self, res, z, value, p, guess_U, extra, in_place: bool = False) -> str | None:
         """Why a converged SQP answer is not accepted (the checks of the module docstring), or None.

@@ -22,8 +22,8 @@ C compiler and cached (:mod:`orrc._jit`); the warm step uses each from the first
 They give the interpreted ones' answers and verdicts bit for bit, so a run's record does not depend on
 when they arrive; without a C compiler the interpreted ones stay. The compiled solver also counts its
 SQP iterations (one Hessian of the Lagrangian each, :func:`orrc._jit.compiled_nlpsol`): its count is read
-in 0.1 µs at every step, checked against the statistics on its first :data:`COUNTER_CHECKS` solves in a
-thread, and no statistics are read after that.
+in 0.1 µs at every step, checked against the statistics on its first
+:data:`~orrc._jit.COUNTER_CHECKS` solves in a thread, and no statistics are read after that.
 
 **The per-step record without a statistics read per step.** Each accepted step is recorded with the
 solver's status and iteration count, as :meth:`ShootingNLP.solve` records them. CasADi's Python API
@@ -52,12 +52,9 @@ import time
 import numpy as np
 
 from .._casadi import Buffered
+from .._jit import COUNTER_CHECKS
 from .nlp import SQP, ShootingNLP
 from .plan import Plan
-
-
-#: a compiled solver's iteration counter is checked against its statistics on its first solves in a thread
-COUNTER_CHECKS = 2
 
 
 class WarmSQP:
