@@ -22,6 +22,9 @@ BOOK_OUT = BUILD_ROOT / "test"          # jupyter-book's --path-output for the t
 BOOK_HTML = BOOK_OUT / "_build" / "html"
 PUBLISHED_HTML = ROOT / "_build" / "html"
 SHOTS = BUILD_ROOT / "screenshots"
+# the libraries that controllers compile (orrc._jit) go to the build folder, not the user's ~/.cache
+# (the chapters' kernels and the fresh environments inherit it)
+os.environ.setdefault("ORRC_CACHE_DIR", str(BUILD_ROOT / "jit-cache"))
 
 
 def tree_fingerprint(folder: Path):
