@@ -32,6 +32,7 @@ import subprocess
 import sys
 import tempfile
 import threading
+import time
 from pathlib import Path
 
 import casadi as ca
@@ -94,7 +95,8 @@ class Compiled:
         building the same library at the same time is harmless)."""
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            with tempfile.TemporaryDirectory(dir=self.path.parent) as tmp:
+            _remove_stale_builds(self.path.parent)
+            with tempfile.TemporaryDirectory(dir=self.path.parent, prefix=_BUILD_PREFIX) as tmp:
                 src, lib = Path(tmp) / f"{self.name}.c", Path(tmp) / f"{self.name}.so"
                 src.write_text(code)
                 out = subprocess.run([cc, *FLAGS, str(src), "-o", str(lib), "-lm"], capture_output=True, text=True,
@@ -137,6 +139,22 @@ class Compiled:
         if self._thread is not None and os.getpid() == self._pid:
             self._thread.join(timeout)
         return self.function()
+
+
+#: the folders of builds under way in the cache (a build's own, removed when it ends)
+_BUILD_PREFIX = "building-"
+
+
+def _remove_stale_builds(folder: Path) -> None:
+    """Remove the folders of builds that can no longer be running (older than twice :data:`BUILD_SECONDS`:
+    left by a process that ended while its compiler ran)."""
+    now = time.time()
+    for stale in folder.glob(_BUILD_PREFIX + "*"):
+        try:
+            if now - stale.stat().st_mtime > 2 * BUILD_SECONDS:
+                shutil.rmtree(stale, ignore_errors=True)
+        except OSError:
+            pass
 
 
 def compiled_function(fn: ca.Function) -> Compiled:

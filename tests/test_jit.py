@@ -2,6 +2,8 @@
 the interpreted ones' answers bit for bit, are built once per machine, and are optional."""
 import copy
 import ctypes
+import os
+import time
 import warnings
 
 import casadi as ca
@@ -208,3 +210,18 @@ def test_a_cold_step_on_the_compiled_solver_reads_its_iterations_from_its_counte
         other = plain.plan(x, W)   # interpreted (not compiled: too few solves)
         assert np.array_equal(plan.inputs, other.inputs) and plan.value == other.value
         assert (plan.iterations, plan.status, plan.success) == (other.iterations, other.status, other.success)
+
+
+def test_the_folder_of_a_build_left_by_an_ended_process_is_removed(compile_now, cache):
+    """A build folder older than twice BUILD_SECONDS (its process ended while the compiler ran) is removed
+    by the next build; a recent one (a build under way elsewhere) is left alone."""
+    stale, fresh = cache / (_jit._BUILD_PREFIX + "stale"), cache / (_jit._BUILD_PREFIX + "fresh")
+    for folder in (stale, fresh):
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "half.c").write_text("/* a build that never ended */")
+    old = time.time() - 3 * _jit.BUILD_SECONDS
+    os.utime(stale, (old, old))
+    x = ca.SX.sym("x")
+    job = _jit.compiled_function(ca.Function("stale_test", [x], [ca.sin(x) * 3.25]))
+    assert job.wait() is not None
+    assert not stale.exists() and fresh.exists()
