@@ -10,8 +10,6 @@ the loop of the paper's information pattern in :mod:`orrc.simulate`.
 """
 from __future__ import annotations
 
-import weakref
-
 import numpy as np
 
 from ._casadi import Buffered
@@ -98,9 +96,9 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     warm, ladder = controller.fast_nlp(), controller.failures
     m, z, M = U.shape[1], warm.z, warm.M
     n = X.shape[1]
-    made = _MADE.get(warm)
-    if made is None:   # the cold start's inputs (the same at every state)
-        made = _MADE[warm] = {"cold inputs": warm.nlp.cold_start(X[0])[0].reshape(-1)}
+    made = warm.made   # what this loop makes once per warm step, not per run
+    if "cold inputs" not in made:   # the cold start's inputs (the same at every state)
+        made["cold inputs"] = warm.nlp.cold_start(X[0])[0].reshape(-1)
     wflat = wpad.reshape(-1)   # the preview of step t: its rows t..t+M-1, vec(w_t..w_{t+M-1})
     cp = rec.cparams if rec.Mc else None   # a cost sequence: the parameters of c_t..c_{t+M-1} at step t
     cflat, k = (np.ascontiguousarray(cp).reshape(-1), cp.shape[1]) if cp is not None else (None, 0)
@@ -144,12 +142,6 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
         guess = shifted is not None and shifted[2] == 1
         if guess:
             warm.set_guess(shifted[0], shifted[1])
-
-
-#: what :func:`nlp_loop` makes once per warm step (once per controller and thread,
-#: :meth:`orrc.PreviewRHC.fast_nlp`), not per run: {WarmSQP: {"cold inputs": the cold start's inputs, flat;
-#: "plant": (the plant's Function, its step on the warm step's buffers, a Buffered)}}
-_MADE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def record_fast_steps(controller, rec: Record) -> None:

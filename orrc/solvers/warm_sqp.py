@@ -71,6 +71,9 @@ class WarmSQP:
         self._use_check(nlp._call("acceptance"))
         #: the solver and the checks are the compiled copies (:meth:`ShootingNLP.compiled`)
         self.compiled = False
+        #: what :func:`orrc._fast_loops.nlp_loop` makes once per warm step, not per run: {"cold inputs": the
+        #: cold start's inputs, flat; "plant": (the plant's Function, its step on this step's buffers)}
+        self.made = {}
         self.nu, self.nw = M * m, n + M * n
         # the cost's parameters and θ: the same at every step of a time-invariant cost (as every solve writes them)
         self.p[self.nw:] = np.concatenate([np.asarray(P, float).reshape(-1), [] if theta is None else
