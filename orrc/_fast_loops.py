@@ -94,11 +94,9 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     loop of the information pattern."""
     T, X, X_read, U, wpad = rec.T, rec.X, rec.X_read, rec.U, rec.wpad
     warm, ladder = controller.fast_nlp(), controller.failures
-    m, z, M = U.shape[1], warm.z, warm.M
+    m, z = U.shape[1], warm.z
     n = X.shape[1]
     made = warm.made   # what this loop makes once per warm step, not per run
-    if "cold inputs" not in made:   # the cold start's inputs (the same at every state)
-        made["cold inputs"] = warm.nlp.cold_start(X[0])[0].reshape(-1)
     wflat = wpad.reshape(-1)   # the preview of step t: its rows t..t+M-1, vec(w_t..w_{t+M-1})
     cp = rec.cparams if rec.Mc else None   # a cost sequence: the parameters of c_t..c_{t+M-1} at step t
     cflat, k = (np.ascontiguousarray(cp).reshape(-1), cp.shape[1]) if cp is not None else (None, 0)
@@ -120,9 +118,7 @@ def nlp_loop(controller, rec: Record, step, A, B, general_step) -> None:
     status, solver, has_value = rec.status, rec.solver, rec.has_value
     t, guess = 0, ladder.warm_start(0) is None
     if guess:   # the first rung of step 0: SQP from the cold start (its inputs; the state held at x_0)
-        z0, nu = warm.z0, warm.nu
-        z0[:nu] = made["cold inputs"]
-        z0[nu:].reshape(M, n)[:] = X[0]
+        warm.set_guess(None, None, X[0])
     while t < T:
         if guess:
             start = t

@@ -157,14 +157,20 @@ def _remove_stale_builds(folder: Path) -> None:
             pass
 
 
+def _c_code(name: str, functions) -> str:
+    """The C code of ``functions`` in one file (CasADi's code generator, no header)."""
+    gen = ca.CodeGenerator(name, {"with_header": False})
+    for fn in functions:
+        gen.add(fn)
+    return gen.dump()
+
+
 def compiled_function(fn: ca.Function) -> Compiled:
     """A compiled copy of the SX function ``fn`` (CasADi's code generator; ``casadi.external`` loads it)."""
     name = fn.name()
     if compiler() is None:
         return Compiled(name, None, None)
-    gen = ca.CodeGenerator(name, {"with_header": False})
-    gen.add(fn)
-    return Compiled(name, gen.dump(), lambda path: ca.external(name, path))
+    return Compiled(name, _c_code(name, [fn]), lambda path: ca.external(name, path))
 
 
 def compiled_nlpsol(solver: ca.Function, plugin: str, options: dict) -> Compiled:
@@ -179,11 +185,8 @@ def compiled_nlpsol(solver: ca.Function, plugin: str, options: dict) -> Compiled
     name = solver.name()
     if compiler() is None:
         return Compiled(name, None, None)
-    gen = ca.CodeGenerator(name, {"with_header": False})
-    gen.add(solver.oracle())
-    for fn in solver.get_function():
-        gen.add(solver.get_function(fn))
-    code, counted = gen.dump(), None
+    code = _c_code(name, [solver.oracle(), *(solver.get_function(fn) for fn in solver.get_function())])
+    counted = None
     if code.count(_HESSIAN) == 1:
         code = f"_Thread_local long long {ITERATIONS} = 0;\n" + code.replace(_HESSIAN, _HESSIAN + f"  {ITERATIONS}++;\n")
         counted = ITERATIONS

@@ -94,7 +94,7 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
         wall = time.perf_counter() - start
         _check_divergence(controller, rec)
     traj = rec.trajectory(rec.T, wall)
-    if not rec.all_ok:
+    if not rec.ok.all():
         warnings.warn(failure_summary(controller.name, rec.T, rec.ok, rec.status, rec.fallback), SolverWarning,
                       stacklevel=2)
     return traj

@@ -192,8 +192,6 @@ class Record:
         # (the flags the trajectory does not hand on: rows of one array)
         self.flags = np.zeros((3, T), dtype=bool)
         self.has_value, self.deferred, self.reported_nonfinite = self.flags
-        #: every step's solve succeeded (known after :meth:`trajectory`)
-        self.all_ok = True
         self.ok = np.empty(T, dtype=bool)
         self.ok.fill(True)
         self.status, self.solver, self.fallback = [""] * T, [None] * T, [None] * T
@@ -245,7 +243,7 @@ class Record:
                     raise OrrcValueError(f"the cost's sigma(x) must be >= 0 (Assumption 2); it is {sig.min():.3g} "
                                          f"at t={int(np.argmin(sig))}")
             values = valid = None
-            self.all_ok = all_ok = bool(oks.all())
+            all_ok = bool(oks.all())
             if steps and n_value == steps:
                 if not all_ok:
                     Vs[~oks] = np.nan  # a failed solve has no optimal value, whatever the controller reported

@@ -13,7 +13,8 @@ import pytest
 import orrc
 from orrc import _jit
 from orrc._casadi import Buffered
-from orrc.solvers import nlp as nlp_module, warm_sqp
+from orrc.solvers import nlp as nlp_module
+from runs import pendulum_case, same_runs
 
 pytestmark = pytest.mark.skipif(_jit.compiler() is None, reason="no C compiler on this machine")
 
@@ -37,28 +38,6 @@ def _wait(rhc):
         job.wait()
 
 
-def _same_runs(a, b):
-    for k in ("x", "u", "costs", "values", "success", "iterations", "value_valid"):
-        assert np.array_equal(getattr(a, k), getattr(b, k), equal_nan=True), f"the runs differ in {k}"
-    assert (a.status, a.solver, a.fallback) == (b.status, b.solver, b.fallback), "the runs' records differ"
-
-
-def _case(case):
-    """A controller's arguments, x0, w and costs for the closed loops of tests/test_sqp.py's cases."""
-    ex = orrc.examples.inverted_pendulum()
-    w = orrc.disturbances.uniform_ball(80, 2, radius=0.02, seed=0)
-    kw, x0, cost, costs = dict(M=10, input_bounds=ex.input_bounds), np.array([0.5, 0.0]), ex.cost, None
-    if case == "time-varying cost":
-        cost = orrc.Cost(lambda x, u, p: p[0] * (1 - ca.cos(x[0])) + x[1] ** 2 + 0.1 * u[0] ** 2,
-                         n=2, m=1, n_params=1, default_params=[20.0])
-        costs = orrc.CostSequence(cost, 20 * (1 + 0.5 * np.sin(np.arange(50) / 7.0))[:, None])
-        x0 = np.array([2.5, 0.0])
-    elif case == "steps fail":   # a tight input bound far from the origin, SQP cut short
-        kw = dict(M=10, input_bounds=(-1, 1), max_failures=None, solver="sqp", solver_options={"sqpmethod.max_iter": 3})
-        x0, w = np.array([2.0, 0.0]), 30 * w
-    return ex.system, cost, kw, x0, w, costs
-
-
 def _run(system, rhc, x0, w, costs):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", orrc.SolverWarning)
@@ -70,7 +49,7 @@ def test_a_closed_loop_with_the_compiled_solver_and_checks_is_the_interpreted_on
     """The warm SQP step switches to the compiled solver and checks once they are built; the closed loop
     is bit for bit the one of a controller that never compiles (ORRC_JIT=0), failed steps and the iteration
     counts (read from the compiled solver's own statistics) included."""
-    system, cost, kw, x0, w, costs = _case(case)
+    system, cost, kw, x0, w, costs = pendulum_case(case)
     rhc = orrc.PreviewRHC(system, cost, **kw)
     first = _run(system, rhc, x0, w, costs)   # asks for the compiled copies
     _wait(rhc)
@@ -83,8 +62,8 @@ def test_a_closed_loop_with_the_compiled_solver_and_checks_is_the_interpreted_on
     plain = orrc.PreviewRHC(system, cost, **kw)
     interpreted = _run(system, plain, x0, w, costs)
     assert plain._nlp.compile_error("sqp") is not None and "ORRC_JIT=0" in plain._nlp.compile_error("sqp")
-    _same_runs(first, interpreted)
-    _same_runs(second, interpreted)
+    same_runs(first, interpreted)
+    same_runs(second, interpreted)
 
 
 def test_the_compiled_acceptance_checks_give_the_interpreted_values(compile_now):
@@ -127,7 +106,7 @@ def test_without_a_working_compiler_the_interpreted_functions_take_every_step(cc
     """No compiler, or one that fails: the reason is kept, the interpreted solver and checks run, the same run."""
     monkeypatch.setenv("CC", cc)
     monkeypatch.setenv("ORRC_CACHE_DIR", str(tmp_path))   # nothing cached: the compiler must run
-    system, cost, kw, x0, w, costs = _case("accepted")
+    system, cost, kw, x0, w, costs = pendulum_case("accepted")
     rhc = orrc.PreviewRHC(system, cost, **kw)
     run = _run(system, rhc, x0, w, costs)
     _wait(rhc)
@@ -136,20 +115,20 @@ def test_without_a_working_compiler_the_interpreted_functions_take_every_step(cc
     assert error is not None and ("no C compiler" in error if cc.startswith("/") else "failed" in error), error
     assert rhc._nlp.compiled("sqp") is None and rhc._nlp.compiled("acceptance") is None
     monkeypatch.setenv("ORRC_JIT", "0")
-    _same_runs(run, _run(system, orrc.PreviewRHC(system, cost, **kw), x0, w, costs))
-    _same_runs(again, run)
+    same_runs(run, _run(system, orrc.PreviewRHC(system, cost, **kw), x0, w, costs))
+    same_runs(again, run)
 
 
 def test_a_copied_controller_leaves_its_compiled_copies_behind_and_loads_them_again(compile_now):
     """A controller copied after compiling (as pickling does: DropsBuffers) carries no library or thread; its copy loads the cached library
     on its own warm steps and runs the same closed loop."""
-    system, cost, kw, x0, w, costs = _case("accepted")
+    system, cost, kw, x0, w, costs = pendulum_case("accepted")
     rhc = orrc.PreviewRHC(system, cost, **kw)
     run = _run(system, rhc, x0, w, costs)
     _wait(rhc)
     twin = copy.deepcopy(rhc)
     assert twin._nlp._jit == {}
-    _same_runs(_run(system, twin, x0, w, costs), run)
+    same_runs(_run(system, twin, x0, w, costs), run)
     assert twin._nlp.compiled("sqp") is not None
 
 
@@ -166,13 +145,13 @@ def test_an_iteration_counter_that_disagrees_with_the_statistics_is_dropped_for_
     """Were the compiled solver to evaluate its Hessian other than once per iteration, its counter would
     disagree with CasADi's statistics on the first solves it is checked on: the warm step drops it and
     reads the statistics, and the run is the same (here a counter that never moves)."""
-    system, cost, kw, x0, w, costs = _case("accepted")
+    system, cost, kw, x0, w, costs = pendulum_case("accepted")
     rhc = orrc.PreviewRHC(system, cost, **kw)
     reference = _run(system, rhc, x0, w, costs)
     _wait(rhc)
     solver = rhc._nlp._call("sqp-compiled")
     solver.counter, solver.counter_checks = ctypes.c_longlong(0), 0
-    _same_runs(_run(system, rhc, x0, w, costs), reference)
+    same_runs(_run(system, rhc, x0, w, costs), reference)
     assert solver.counter is None and solver.counts_accumulate is not None
 
 

@@ -20,6 +20,7 @@ import pytest
 
 import orrc
 from orrc.solvers.nlp import ACCEPT_RTOL, DEFAULT_SQP
+from runs import pendulum_case, same_runs
 
 
 def _kkt(rhc, x, W, P, plan, active=None):
@@ -173,40 +174,22 @@ def test_warm_start_from_the_shifted_plan_needs_no_more_iterations_than_a_cold_s
     np.testing.assert_allclose(warm.values, [p.value for p in cold], rtol=1e-7)
 
 
-def _same_runs(a, b):
-    for k in ("x", "u", "costs", "values", "success", "iterations", "value_valid"):
-        assert np.array_equal(getattr(a, k), getattr(b, k), equal_nan=True), f"the runs differ in {k}"
-    assert (a.status, a.solver, a.fallback) == (b.status, b.solver, b.fallback), "the runs' records differ"
-
-
 @pytest.mark.parametrize("case", ["accepted", "ipopt rescues", "steps fail", "time-varying cost"])
 def test_the_warm_sqp_loop_is_the_controllers_own_closed_loop(case):
     """orrc.simulate takes the common step of PreviewRHC (SQP from the shifted plan, accepted) in a loop of
     its own (orrc._fast_loops.nlp_loop) and every other step through control(): the run is bit for bit the
     one control() makes at every step, also where SQP fails and IPOPT or the fallback takes the step."""
-    ex = orrc.examples.inverted_pendulum()
-    w = orrc.disturbances.uniform_ball(80, 2, radius=0.02, seed=0)
-    kw, x0, cost, costs = dict(M=10, input_bounds=ex.input_bounds), np.array([0.5, 0.0]), ex.cost, None
-    if case == "time-varying cost":   # c_t = p_t (1 - cos θ) + ω² + 0.1 u², p_t previewed (non-convex)
-        cost = orrc.Cost(lambda x, u, p: p[0] * (1 - ca.cos(x[0])) + x[1] ** 2 + 0.1 * u[0] ** 2,
-                         n=2, m=1, n_params=1, default_params=[20.0])
-        costs = orrc.CostSequence(cost, 20 * (1 + 0.5 * np.sin(np.arange(50) / 7.0))[:, None])
-        x0 = np.array([2.5, 0.0])
-    elif case != "accepted":   # hard steps: a tight input bound far from the origin, SQP cut short
-        rescue = case == "ipopt rescues"
-        kw = dict(M=10, input_bounds=(-1, 1), max_failures=None, solver="nlp" if rescue else "sqp",
-                  solver_options={"sqpmethod.max_iter": 2 if rescue else 3})
-        x0, w = np.array([2.0, 0.0]), (10 if rescue else 30) * w
+    system, cost, kw, x0, w, costs = pendulum_case(case)
     runs = []
     for general in (False, True):
-        rhc = orrc.PreviewRHC(ex.system, cost, **kw)
+        rhc = orrc.PreviewRHC(system, cost, **kw)
         if general:
             rhc.control = rhc.control   # replaced on the object: every step through control()
         assert (rhc.fast_nlp() is None) == general
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", orrc.SolverWarning)
-            runs.append(orrc.simulate(ex.system, rhc, x0, w, 40, costs=costs))
-    _same_runs(*runs)
+            runs.append(orrc.simulate(system, rhc, x0, w, 40, costs=costs))
+    same_runs(*runs)
     fast = runs[0]
     if case in ("accepted", "time-varying cost"):
         assert fast.n_failures == 0 and fast.solver_counts == {"sqp": 40}
@@ -231,7 +214,7 @@ def test_a_controller_that_stops_inside_the_warm_sqp_loop_hands_back_the_same_ru
             orrc.simulate(ex.system, rhc, np.array([3.0, 0.0]), w, 40)
         stopped.append(err.value)
     assert stopped[0].step == stopped[1].step > 1, "the controller stops at the same step, after warm steps"
-    _same_runs(stopped[0].trajectory, stopped[1].trajectory)
+    same_runs(stopped[0].trajectory, stopped[1].trajectory)
 
 
 @pytest.mark.parametrize("read", ["every second step", "every step (error_on_fail off)",
@@ -262,7 +245,7 @@ def test_the_recorded_iteration_counts_are_the_solvers_whichever_way_they_are_re
         if not general:
             assert buffer.counts_accumulate is {"every second step": True, "every step (error_on_fail off)": None,
                                                 "every step (counters not accumulating)": False}[read]
-    _same_runs(*runs)
+    same_runs(*runs)
     fast = runs[0]
     assert 0 < fast.n_failures < 30 and fast.iterations[fast.success].min() >= 1, fast.n_failures
 

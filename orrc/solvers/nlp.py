@@ -264,11 +264,7 @@ class ShootingNLP(DropsBuffers):
             self.sqp_solves += 1
             call = self.compiled(SQP) or call
         z0, p = call.args[0], call.args[1]  # written in place: the guess [vec U; x̃_1..x̃_M], the parameters
-        z0[: M * m] = guess_U.reshape(-1)
-        if guess_X is None:   # the cold start's states: x held over the horizon
-            z0[M * m:].reshape(M, n)[:] = x
-        else:                 # guess_X: x̃_0..x̃_M
-            z0[M * m:] = guess_X[1:].reshape(-1)
+        self.write_guess(z0, x, guess_U, guess_X)
         k = n + M * n + P.size
         p[:n], p[n:n + M * n], p[n + M * n:k] = x, W.reshape(-1), P.reshape(-1)
         if self.n_theta:
@@ -319,6 +315,17 @@ class ShootingNLP(DropsBuffers):
                 status = "non-finite result"
         return Plan(inputs=U, states=X, value=value, success=success, status=status, iterations=iterations,
                     solve_time=elapsed, fallback=fallback, solver=solver, extra=extra)
+
+    def write_guess(self, z0, x, guess_U=None, guess_X=None) -> None:
+        """Write a solve's guess z0 = [vec U; x̃_1..x̃_M] in place: the inputs ``guess_U`` (M, m; None: the cold
+        start's) and the states ``guess_X[1:]`` (x̃_0..x̃_M given; None: x held over the horizon, the cold
+        start's, :meth:`cold_start`)."""
+        nu = self.M * self.m
+        z0[:nu] = (self._cold_U if guess_U is None else guess_U).reshape(-1)
+        if guess_X is None:
+            z0[nu:].reshape(self.M, self.n)[:] = x
+        else:
+            z0[nu:] = guess_X[1:].reshape(-1)
 
     def _guess_states(self, x, guess_X) -> np.ndarray:
         """The guess's states x̃_1..x̃_M (M, n): ``guess_X[1:]``, or x held (the cold start)."""

@@ -71,8 +71,8 @@ class WarmSQP:
         self._use_check(nlp._call("acceptance"))
         #: the solver and the checks are the compiled copies (:meth:`ShootingNLP.compiled`)
         self.compiled = False
-        #: what :func:`orrc._fast_loops.nlp_loop` makes once per warm step, not per run: {"cold inputs": the
-        #: cold start's inputs, flat; "plant": (the plant's Function, its step on this step's buffers)}
+        #: what :func:`orrc._fast_loops.nlp_loop` makes once per warm step, not per run: {"plant": (the plant's
+        #: Function, its step on this step's buffers)}
         self.made = {}
         self.nu, self.nw = M * m, n + M * n
         # the cost's parameters and θ: the same at every step of a time-invariant cost (as every solve writes them)
@@ -102,10 +102,11 @@ class WarmSQP:
             self._use_check(check)
         self.compiled = solver is not None and check is not None
 
-    def set_guess(self, inputs, states) -> None:
+    def set_guess(self, inputs, states, x=None) -> None:
         """The guess of the next solve: ``inputs`` (M, m) and states x̃_0..x̃_M (M+1, n; x̃_0 is replaced by the
-        state), as :meth:`ShootingNLP.solve` writes them."""
-        self.z0[: self.nu], self.z0[self.nu:] = inputs.reshape(-1), states[1:].reshape(-1)
+        state), or with both None the cold start from state ``x``, as :meth:`ShootingNLP.solve` writes them
+        (:meth:`ShootingNLP.write_guess <orrc.solvers.nlp.ShootingNLP.write_guess>`)."""
+        self.nlp.write_guess(self.z0, x, inputs, states)
 
     def run(self, t: int, stop: int, X, U, V, times, iters, w, P=None, k: int = 0, advance=None) -> int:
         """Warm steps t, t+1, ... of one closed loop, while each is accepted, up to ``stop``: returns the
