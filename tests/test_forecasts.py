@@ -203,34 +203,3 @@ def test_self_tuning_trusts_an_exact_forecast_and_distrusts_noise(di):
     assert np.allclose(exact.info["lam"][6:], 1.0, rtol=0, atol=1e-12) and exact.info["lam"][0] == 0.5
     noisy = orrc.simulate(ex.system, LambdaConfident(ex.system, ex.cost, 5), ex.x0, w, T=60, forecast=Noisy(1.0, seed=2))
     assert noisy.info["lam"][-1] < 0.5
-
-
-# ---------------------------------------------------------------- bad input
-
-def test_bad_forecasts_are_refused_clearly(di):
-    ex, w = di
-    rhc = orrc.PreviewRHC(ex.system, ex.cost, M=3)
-    with pytest.raises(orrc.OrrcValueError, match="forecast must be an orrc.forecasts.Forecast"):
-        orrc.simulate(ex.system, rhc, ex.x0, w, T=5, forecast=np.zeros((5, 2)))
-    with pytest.raises(orrc.OrrcValueError, match="previews no disturbance"):
-        orrc.simulate(ex.system, orrc.LQR(ex.system, ex.cost), ex.x0, w, T=5, forecast=Exact())
-
-    class Wrong(Forecast):
-        def window(self, t, past, truth):
-            return np.full((2, 2), np.nan) if t else np.zeros((1, 2))
-
-    with pytest.raises(orrc.OrrcValueError, match=r"must return a finite \(3, 2\) window at t=0"):
-        orrc.simulate(ex.system, rhc, ex.x0, w, T=5, forecast=Wrong())
-    with pytest.raises(orrc.OrrcValueError, match="sigma"):
-        Noisy(-1.0)
-    with pytest.raises(orrc.OrrcValueError, match="norm"):
-        AdversarialError(0.1, norm="1")
-    with pytest.raises(orrc.OrrcValueError, match="lam"):
-        LambdaConfident(ex.system, ex.cost, 3, lam=2.0)
-    with pytest.raises(orrc.OrrcValueError, match="E must be an orrc.Box"):
-        RobustPreviewRHC(ex.system, ex.cost, 3, E=orrc.Ball(0.1, n=2))
-    with pytest.raises(orrc.OrrcValueError, match="LinearSystem and an orrc.QuadraticCost"):
-        pend = orrc.examples.inverted_pendulum()
-        RobustPreviewRHC(pend.system, pend.cost, 3, E=orrc.Box(-0.1, 0.1, n=2))
-    with pytest.raises(orrc.OrrcValueError, match="no forecasts"):
-        forecast_errors(orrc.simulate(ex.system, rhc, ex.x0, w, T=5))

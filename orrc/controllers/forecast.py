@@ -179,9 +179,13 @@ class RobustPreviewRHC(Controller):
     def __init__(self, system: LinearSystem, cost: QuadraticCost, M: int, E: Box, input_bounds=None):
         _check_lq("RobustPreviewRHC", system, cost)
         self.M = as_int("M", M, minimum=1)
-        E = check_set(E, system.n)
         if not isinstance(E, Box):
-            raise OrrcValueError("E must be an orrc.Box for the exact robust preview (a ball has no vertices)")
+            raise OrrcValueError(f"E must be an orrc.Box (the forecast's error set; a ball has no vertices for the "
+                                 f"exact robust preview); got {type(E).__name__}")
+        if E.n != system.n:
+            raise OrrcValueError(f"E must have the state dimension n={system.n} (the error adds to w_t); got a box "
+                                 f"in R^{E.n}")
+        E = check_set(E, system.n)
         n, m, M = system.n, system.m, self.M
         N = n * (M + 1)
         # ξ = (x, ŵ_0, ..., ŵ_{M-1}): x⁺ = A x + B u + ŵ_0 + e, the register shifts (ŵ_j ← ŵ_{j+1}, 0 in)
