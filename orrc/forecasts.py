@@ -16,12 +16,12 @@ noise plus a bias.
 ========================  ============================================================
 :class:`Exact`            ŵ_{t+j|t} = w_{t+j} (Algorithm 1's preview)
 :class:`Zero`             ŵ_{t+j|t} = 0 (no preview: what Algorithm 3 plans around)
-:class:`Noisy`            w_{t+j} + e_{t,j}, e_{t,j} ~ N(0, (σ(1 + g j))² I): noise growing with lead j
+:class:`Noisy`            w_{t+j} + ê_{t,j}, ê_{t,j} ~ N(0, (s_f(1 + g_f j))² I): noise growing with the lead j
 :class:`Bias`             w_{t+j} + b
 :class:`Delay`            w_{t+j-d}: a forecast d steps late (zeros before the start)
 :class:`AR`               a least-squares autoregressive model fitted online on w_{0:t-1}, run
                           forward (never reads the truth)
-:class:`AdversarialError` w_{t+j} + e_{t,j} with ‖e_{t,j}‖ = r, pointed against w_{t+j}
+:class:`AdversarialError` w_{t+j} + ê_{t,j} with ‖ê_{t,j}‖ = r_E, pointed against w_{t+j}
 ========================  ============================================================
 
 Used by the robust-preview and λ-confident controllers (:mod:`orrc.controllers.forecast`).
@@ -137,18 +137,18 @@ class Zero(Forecast):
 
 
 class Noisy(Forecast):
-    """Gaussian noise growing with the lead: ŵ_{t+j|t} = w_{t+j} + e_{t,j}, e_{t,j} ~ N(0, σ_j² I),
-    σ_j = σ (1 + g j).
+    """Gaussian noise growing with the lead: ŵ_{t+j|t} = w_{t+j} + ê_{t,j}, ê_{t,j} ~ N(0, s_j² I),
+    s_j = s_f (1 + g_f j).
 
     The error of lead j at step t is drawn from a generator seeded by (seed, t), so it is the same
     whatever the horizon M (a longer horizon adds leads, it does not redraw the first ones).
 
     Parameters
     ----------
-    sigma : float
-        σ >= 0, the standard deviation at lead 0.
+    scale : float
+        s_f >= 0, the standard deviation at lead 0.
     growth : float, default 0
-        g >= 0, how fast σ_j grows with the lead j.
+        g_f >= 0, how fast s_j grows with the lead j.
     seed : int, default 0
         The seed of the errors.
 
@@ -163,16 +163,16 @@ class Noisy(Forecast):
     True
     """
 
-    def __init__(self, sigma: float, growth: float = 0.0, seed: int = 0):
-        self.sigma = as_float("sigma", sigma, minimum=0.0)
+    def __init__(self, scale: float, growth: float = 0.0, seed: int = 0):
+        self.scale = as_float("scale", scale, minimum=0.0)
         self.growth = as_float("growth", growth, minimum=0.0)
         self.seed = as_int("seed", seed, minimum=0)
-        self.name = f"noisy(σ={self.sigma:g}, g={self.growth:g})"
+        self.name = f"noisy(s_f={self.scale:g}, g_f={self.growth:g})"
 
     def window(self, t, past, truth):
         M, n = truth.shape
         e = np.random.default_rng([self.seed, t]).standard_normal((M, n))
-        return truth + (self.sigma * (1.0 + self.growth * np.arange(M)))[:, None] * e
+        return truth + (self.scale * (1.0 + self.growth * np.arange(M)))[:, None] * e
 
 
 class Bias(Forecast):
@@ -295,9 +295,9 @@ class AR(Forecast):
 
 
 class AdversarialError(Forecast):
-    """An error at the edge of a set, pointed against the truth: ŵ_{t+j|t} = w_{t+j} + e_{t,j},
-    e_{t,j} = −r sign(w_{t+j}) (``norm="inf"``: the box ‖e‖_∞ <= r) or −r w_{t+j}/‖w_{t+j}‖
-    (``norm="2"``: the ball ‖e‖ <= r).
+    """An error at the edge of a set, pointed against the truth: ŵ_{t+j|t} = w_{t+j} + ê_{t,j},
+    ê_{t,j} = −r_E sign(w_{t+j}) (``norm="inf"``: the box ‖ê‖_∞ <= r_E) or −r_E w_{t+j}/‖w_{t+j}‖
+    (``norm="2"``: the ball ‖ê‖ <= r_E).
 
     It is the largest error of the set that undoes the preview's information (it shrinks, or
     flips, every previewed disturbance); it is not the worst case for a particular controller.
@@ -305,7 +305,7 @@ class AdversarialError(Forecast):
     Parameters
     ----------
     radius : float
-        r >= 0.
+        r_E >= 0.
     norm : {"inf", "2"}, default "inf"
 
     Examples
@@ -321,7 +321,7 @@ class AdversarialError(Forecast):
         if norm not in ("inf", "2"):
             raise OrrcValueError(f'norm must be "inf" (a box) or "2" (a ball); got {norm!r}')
         self.norm = norm
-        self.name = f"adversarial(r={self.radius:g}, {norm})"
+        self.name = f"adversarial(r_E={self.radius:g}, {norm})"
 
     def window(self, t, past, truth):
         if self.norm == "inf":

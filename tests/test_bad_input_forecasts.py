@@ -43,7 +43,7 @@ CASES = [
          "forecast misshapen", "(3, 2) window at t=0", "(1, 2)"),
     case("forecasts-window-not-finite", lambda: orrc.simulate(EX.system, rhc(), EX.x0, W, T=5, forecast=NotFinite()),
          "forecast not finite", "non-finite"),
-    case("forecasts-noisy-sigma", lambda: Noisy(-1.0), "sigma"),
+    case("forecasts-noisy-scale", lambda: Noisy(-1.0), "scale"),
     case("forecasts-noisy-growth", lambda: Noisy(0.1, growth=np.nan), "growth"),
     case("forecasts-noisy-seed", lambda: Noisy(0.1, seed=-3), "seed"),
     case("forecasts-bias-matrix", lambda: Bias(np.ones((2, 2))), "b must be a number or a vector"),

@@ -88,11 +88,11 @@ def test_a_learned_forecaster_does_not_read_the_truth(di):
 # ---------------------------------------------------------------- the forecast models
 
 def test_noisy_errors_grow_with_the_lead_as_specified():
-    sigma, g, M, T = 0.2, 1.0, 4, 4000
-    model = Noisy(sigma, growth=g, seed=5)
+    scale, g, M, T = 0.2, 1.0, 4, 4000
+    model = Noisy(scale, growth=g, seed=5)
     e = np.stack([model.window(t, np.zeros((t, 1)), np.zeros((M, 1))) for t in range(T)])[..., 0]
-    target = sigma * (1 + g * np.arange(M))
-    # the sample standard deviation of T normal draws is within 5/sqrt(2T) of sigma_j, relatively
+    target = scale * (1 + g * np.arange(M))
+    # the sample standard deviation of T normal draws is within 5/sqrt(2T) of s_j, relatively
     assert np.all(np.abs(e.std(axis=0) / target - 1) < 5 / np.sqrt(2 * T))
 
 

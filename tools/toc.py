@@ -47,7 +47,7 @@ def notebook_pages(root: Path = ROOT) -> list[str]:
 #: the parts of the book whose chapters teach the paper (held to the chapter shape of
 #: tools/teaching_shape.py); the other parts are the front matter, the course and the appendices
 TEACHING_PARTS = ("The setting", "Known system, with preview: Algorithm 1", "Unknown system: Algorithm 2",
-                  "No preview: Algorithm 3", "Comparisons")
+                  "No preview: Algorithm 3", "Comparisons", "Beyond the paper")
 
 
 def parts(root: Path = ROOT) -> list[tuple[str, list[str]]]:

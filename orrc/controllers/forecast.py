@@ -4,8 +4,8 @@
   law, u_t = −K x_t − λ L vec ŵ_{t:t+M-1|t}: λ = 1 trusts the forecast (Algorithm 1 on it,
   certainty equivalence), λ = 0 ignores it; ``lam="self-tuning"`` learns λ_t from the forecasts'
   past errors.
-* :class:`RobustPreviewRHC`: min-max over the forecast's error set E, min_U max_{e ∈ E^M}
-  J(x, U, ŵ + e). It is Algorithm 1 on the forecast when E = {0}, and Algorithm 3's open-loop
+* :class:`RobustPreviewRHC`: min-max over the forecast's error set E, min_U max_{ê ∈ E^M}
+  J(x, U, ŵ + ê). It is Algorithm 1 on the forecast when E = {0}, and Algorithm 3's open-loop
   min-max when the forecast is zero and E = W: one set moves between the paper's two settings.
 """
 from __future__ import annotations
@@ -136,8 +136,8 @@ class LambdaConfident(Controller):
 class RobustPreviewRHC(Controller):
     """Min-max receding-horizon control around a forecast: at step t,
 
-        min_{U}  max_{e_0..e_{M-1} ∈ E}  Σ_{j=0}^{M-1} c(x̃_j, ũ_j),
-        x̃_{j+1} = A x̃_j + B ũ_j + ŵ_{t+j|t} + e_j,  x̃_0 = x_t,
+        min_{U}  max_{ê_0..ê_{M-1} ∈ E}  Σ_{j=0}^{M-1} c(x̃_j, ũ_j),
+        x̃_{j+1} = A x̃_j + B ũ_j + ŵ_{t+j|t} + ê_j,  x̃_0 = x_t,
 
     and u_t = ũ_0. E = {0} gives Algorithm 1 on the forecast; a zero forecast and E = W give
     Algorithm 3 (:class:`~orrc.MinMaxRHC`, open loop). Exact for a linear system, a convex
