@@ -1,4 +1,4 @@
-"""Every chapter ends with 2 to 4 exercises, each with a solution whose code ran in the build (issue 15).
+"""Every chapter ends with 2 to 4 exercises, each with a solution whose code ran in the build.
 
 A chapter is every notebook page of ``_toc.yml`` except the preface, the execution-times page
 and the instructor's guide. Its exercises and solutions are read from its MyST source in the
