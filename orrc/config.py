@@ -16,6 +16,79 @@
   environment variables ``ORRC_MAX_BYTES``, ``ORRC_MAX_OPS``, ``ORRC_WARN_BYTES``,
   ``ORRC_WARN_OPS`` (numbers; ``inf`` switches a limit off). The mechanism is
   ``orrc._validate.check_size``.
+
+.. rubric:: Errors and limits across the package
+
+**Bad input** raises ``orrc.OrrcValueError`` (a ``ValueError``) naming the argument, what was given
+and what is allowed: wrong types and shapes, NaN or inf, complex arrays (never silently made real),
+empty dimensions (n = 0, m = 0, a 0×0 Q), values out of range, seeds that are not seeds, a controller
+built for other dimensions (or, for ``Clairvoyant``, another T) than the simulated system (refused
+before the first step). Nothing is reinterpreted: a truth value is ``True`` or ``False``, a count is an
+integer (a horizon of 1.5 is refused, not truncated), lists of experiments must have equal lengths,
+a warm start must come from a plan of the same horizon. Data are checked once, where they enter:
+every row of a ``CostSequence`` (Q_t positive semidefinite, R_t positive definite), a
+``NonlinearSystem``'s ``f`` and a ``Cost``'s function are evaluated once at construction (a
+``math.sin`` applied to a CasADi symbol traces to NaN and is refused), σ must be finite and ≥ 0.
+
+**Finite input, non-finite result.** No public function returns inf or NaN for finite input
+without saying so:
+
+.. list-table::
+   :header-rows: 1
+   :widths: 50 50
+
+   * - where
+     - what happens
+   * - the paper's formulas (``orrc.theory``), ``Constants.bound``, the metrics, ``energy``,
+       ``QuadraticCost.value``, a plan on the LQ path, the Riccati recursions
+     - ``OrrcValueError`` listing the arguments (e.g. ``horizon_threshold(alpha_lo=1e-200,
+       alpha_hi=1.0)`` overflows); the formulas take ratios first, so ``alpha_lo = alpha_hi =
+       1e-200`` answers (threshold 2)
+   * - ``EDMDModel.predict``, ``prediction_error`` on an unstable lifted model over a long horizon
+     - one ``orrc.NonFiniteWarning`` naming the first step that overflowed
+   * - ``orrc.simulate``: the state or the input becomes inf or NaN (the loop diverged)
+     - ``FloatingPointError`` naming the step
+   * - ``orrc.simulate``: the state stays finite but c_t, σ or V_M overflows, or a controller
+       reports V_M = NaN
+     - one ``orrc.NonFiniteWarning`` naming the quantities and the first step; a non-finite V_M is
+       marked invalid (``Trajectory.value_valid``), and the metrics and checks refuse the trajectory
+   * - ``worst_case_attenuation_limit`` of an unstable loop, ``Constants.gamma_c`` when no pair is
+       admissible
+     - ``inf`` by design, with a ``reason`` saying why
+
+**Size limits.** The computations estimated before they run, and refused above the limits of
+:class:`Limits`:
+
+.. list-table::
+   :header-rows: 1
+   :widths: 40 60
+
+   * - computation
+     - what grows
+   * - the exact LQ law at a long horizon (``PreviewRHC``, ``orrc.solvers.lq``)
+     - the (n + Mn)² value matrix: about 116 TiB for ``PreviewRHC(M=10**6)`` on the double
+       integrator, 1.6e11 operations for M = 2000
+   * - the CasADi transcription, the Riccati recursions (``alpha_hi_floor``,
+       ``smallest_certified_M``)
+     - variables and operations linear in M, Riccati steps
+   * - ``Box.vertices()``, the exact min-max method, the finite-horizon game
+       (``MinMaxRHC(method="game")``), ``HInfinity`` with a long preview
+     - 2^n vertices, 2^(nM) scenarios, game equations in n(M + 1)
+   * - ``worst_case_attenuation``, ``worst_case_regret``, the condensed operators
+     - (Tn)² matrices and their eigenvalues: 7.5 GiB at T = 5000 with n = 4
+   * - ``lemma2_coefficients``, ``sampled_constants``, the disturbance generators and excitation
+       signals, ``GPC``'s memory H, ``best_fixed_policy``, EDMD predictions
+     - samples, grids and dictionaries
+   * - ``orrc.sweep`` (the grid, before any seed is drawn), ``simulate``, ``explore``
+     - runs, steps and frames
+
+The estimates are rough (within a small factor, at a nominal 1e9 operations per second); they exist
+to stop a many-terabyte allocation or an hour-long loop before it starts.
+
+**Solver failures** of a receding-horizon controller follow one escalation policy (warm start, cold
+start, IPOPT, then the shifted previous plan), stop with ``orrc.SolverError`` after ``max_failures``
+consecutive failed steps, and issue one ``orrc.SolverWarning`` per run of ``orrc.simulate``; the
+policy is described in ``orrc.controllers.failures``.
 """
 from __future__ import annotations
 
