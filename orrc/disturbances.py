@@ -357,7 +357,21 @@ def _points(name: str, w, n: int) -> np.ndarray:
 
 
 class Ball:
-    """W = {w : ‖w‖₂ <= radius} ⊂ R^n."""
+    """W = {w : ‖w‖₂ <= radius} ⊂ R^n.
+
+    Parameters
+    ----------
+    radius : the radius, >= 0.
+    n : the dimension, >= 1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> W = orrc.Ball(0.5, 2)
+    >>> W.max_norm_sq, W.contains(np.array([0.3, 0.3])), W.sample(3, seed=0).shape
+    (0.25, True, (3, 2))
+    """
 
     def __init__(self, radius: float, n: int):
         self.radius = as_float("radius", radius, minimum=0.0, maximum=1e150)  # radius² stays a float
@@ -391,7 +405,23 @@ class Ball:
 
 
 class Box:
-    """W = {w : lo <= w <= hi} ⊂ R^n (lo, hi scalars or length-n arrays)."""
+    """W = {w : lo <= w <= hi} ⊂ R^n (lo, hi scalars or length-n arrays).
+
+    Parameters
+    ----------
+    lo, hi : the corners (scalars or length-n arrays, lo <= hi).
+    n : the dimension, when lo and hi are both scalars.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> W = orrc.Box(-1.0, [1.0, 2.0])
+    >>> W.vertices()
+    array([[-1., -1.],
+           [-1.,  2.],
+           [ 1., -1.],
+           [ 1.,  2.]])
+    """
 
     def __init__(self, lo, hi, n: int | None = None):
         lo, hi = np.atleast_1d(as_array("lo", lo)), np.atleast_1d(as_array("hi", hi))
