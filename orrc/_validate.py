@@ -267,8 +267,17 @@ def check_evaluates(name: str, what: str, evaluate, n: int, m: int) -> None:
 class Limits:
     """The size limits of one computation (documented in :mod:`orrc.config`, which sets them).
 
+    Attributes
+    ----------
     max_bytes, max_ops : refuse (``OrrcValueError``) above these estimates.
     warn_bytes, warn_ops : warn (``orrc.SizeWarning``) above these.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> limits = orrc.config.get_limits()
+    >>> sorted(vars(limits))
+    ['max_bytes', 'max_ops', 'warn_bytes', 'warn_ops']
     """
 
     max_bytes: float = 4 * 2 ** 30
@@ -289,7 +298,20 @@ def limit_value(name: str, value) -> float:
 
 def get_limits() -> Limits:
     """The limits in force: read from the environment variables ``ORRC_MAX_BYTES``, ``ORRC_MAX_OPS``,
-    ``ORRC_WARN_BYTES``, ``ORRC_WARN_OPS`` on first use, then as :func:`orrc.config.set_limits` sets them."""
+    ``ORRC_WARN_BYTES``, ``ORRC_WARN_OPS`` on first use, then as :func:`orrc.config.set_limits` sets them.
+
+    Returns
+    -------
+    Limits
+        ``max_bytes``, ``max_ops``, ``warn_bytes``, ``warn_ops``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> with orrc.config.limits(warn_ops=1e9):
+    ...     print(orrc.config.get_limits().warn_ops)
+    1000000000.0
+    """
     global _limits
     if _limits is None:
         values = {}

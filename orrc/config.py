@@ -100,12 +100,45 @@ from . import _validate
 
 
 def quick() -> bool:
-    """True when the environment variable ORRC_QUICK is set to 1/true/yes."""
+    """True when the environment variable ORRC_QUICK is set to 1/true/yes.
+
+    Returns
+    -------
+    bool
+        whether the run sizes are the test sizes.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> orrc.config.quick() in (True, False)
+    True
+    """
     return os.environ.get("ORRC_QUICK", "").strip().lower() in ("1", "true", "yes")
 
 
 def size(full: int, quick_size: int) -> int:
-    """``full`` normally, ``quick_size`` under ORRC_QUICK=1."""
+    """``full`` normally, ``quick_size`` under ORRC_QUICK=1.
+
+    Parameters
+    ----------
+    full : the size a reader runs (the book's value).
+    quick_size : the size under ``ORRC_QUICK=1``.
+
+    Returns
+    -------
+    int
+        ``quick_size`` when :func:`quick`, else ``full``.
+
+    Examples
+    --------
+    In a chapter, a hidden cell after the visible ``T = 200`` rebinds it for the test run:
+
+    >>> import orrc
+    >>> T = 200
+    >>> T = orrc.config.size(T, 40)
+    >>> T == (40 if orrc.config.quick() else 200)
+    True
+    """
     return quick_size if quick() else full
 
 
@@ -114,7 +147,19 @@ def book_build() -> bool:
     1/true/yes. Every build of the book sets it (the full book, the quick build of ``make test``,
     the solution-free edition); a live notebook does not have it. :func:`orrc.viz.explore` renders
     its static frames only in a build (or outside a kernel, where there is no live widget), and
-    progress bars (:func:`orrc.progress`) stay silent in a build."""
+    progress bars (:func:`orrc.progress`) stay silent in a build.
+
+    Returns
+    -------
+    bool
+        whether this code runs in a build of the book.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> orrc.config.book_build() in (True, False)
+    True
+    """
     return os.environ.get("ORRC_BOOK_BUILD", "").strip().lower() in ("1", "true", "yes")
 
 
@@ -124,7 +169,31 @@ get_limits = _validate.get_limits
 
 def set_limits(**changes) -> Limits:
     """Change some limits for the rest of the session (keywords: the fields of :class:`Limits`);
-    returns the previous limits, so ``set_limits(**vars(previous))`` restores them."""
+    returns the previous limits, so ``set_limits(**vars(previous))`` restores them.
+
+    Parameters
+    ----------
+    **changes : new values of ``max_bytes``, ``max_ops``, ``warn_bytes``, ``warn_ops`` (positive
+        numbers; ``math.inf`` switches a limit off).
+
+    Returns
+    -------
+    Limits
+        the limits in force before the call.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a name is not a limit or a value is not a positive number.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> previous = orrc.config.set_limits(max_ops=1e12)
+    >>> orrc.config.get_limits().max_ops
+    1000000000000.0
+    >>> _ = orrc.config.set_limits(**vars(previous))    # restore
+    """
     _validate.check_options("limit", changes, [f.name for f in fields(Limits)])
     new = replace(get_limits(), **{k: _validate.limit_value(k, v) for k, v in changes.items()})
     if new.warn_bytes > new.max_bytes or new.warn_ops > new.max_ops:  # a warning threshold above its limit
@@ -137,6 +206,27 @@ def limits(**changes):
     """``with orrc.config.limits(max_ops=1e12): ...`` -- other limits inside the block only.
 
     Yields the limits in force inside the block. ``math.inf`` switches a limit off.
+
+    Parameters
+    ----------
+    **changes : as for :func:`set_limits`.
+
+    Yields
+    ------
+    Limits
+        the limits in force inside the block.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a name is not a limit or a value is not a positive number.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> with orrc.config.limits(max_ops=1e12) as inside:
+    ...     print(inside.max_ops)
+    1000000000000.0
     """
     previous = set_limits(**changes)
     try:
