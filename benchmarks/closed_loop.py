@@ -1,10 +1,10 @@
-"""Benchmark 3 (issue 11): nonlinear receding-horizon control in closed loop, SQP against IPOPT.
+"""Benchmark 3: nonlinear receding-horizon control in closed loop, SQP against IPOPT.
 
 ``orrc.simulate`` over T = 200 steps of Algorithm 1 on three problems, so that the speed is not
 tuned to one of them:
 
 * the pendulum of benchmark 1 (``orrc.examples.inverted_pendulum()``, M = 20, |u| <= 20) from
-  (0.5, 0) under a disturbance drawn from a ball (radius 0.02); target (issue 11): the whole run
+  (0.5, 0) under a disturbance drawn from a ball (radius 0.02); target: the whole run
   under 0.1 s of ``orrc.simulate`` CPU time (one BLAS thread; the wall time beside it);
 * the Van der Pol oscillator (``orrc.examples.van_der_pol()``, M = 15, |u| <= 5) from (1.5, 0),
   disturbance radius 0.05;
@@ -13,7 +13,7 @@ tuned to one of them:
   through the region where the cost's curvature cos θ is negative).
 
 Each problem is run with ``PreviewRHC``'s default NLP path (SQP, IPOPT as the fallback) and, in the
-same run and interleaved with it, with ``solver="ipopt"`` (the solver before issue 11). The check:
+same run and interleaved with it, with ``solver="ipopt"`` (the default solver of earlier releases). The check:
 both runs reach the same closed loop (total cost to 1e-6 relative), no step fails, and the table says
 how many steps each solver produced (where SQP fell back to IPOPT). Reported beside it: what the
 warm start from the shifted plan buys, each step of the run re-solved from a cold start at the same

@@ -2,9 +2,9 @@
 
 Benchmarks are not timed unit tests: each one measures orrc against a peer in the
 same run (so the machine's speed and load cancel in the ratio), reports medians of
-several repetitions, and says whether the target of issue 2 is met.
+several repetitions, and says whether its target is met.
 
-**What is measured** (issue 22). A peer comparison states CPU time (``time.process_time``: the
+**What is measured**. A peer comparison states CPU time (``time.process_time``: the
 time this process computed, which another process's load does not inflate) and wall time
 (``time.perf_counter``), with the BLAS thread count equal on both sides: :func:`one_thread`
 limits every BLAS/OpenMP pool to one thread (threadpoolctl) for the whole run, and

@@ -1,4 +1,4 @@
-"""The comparison table of issue 14 from one command: ``python -m benchmarks.run --only comparison``.
+"""The comparison chapter's table from one command: ``python -m benchmarks.run --only comparison``.
 
 Every controller of the comparison chapter on the book's scalar example x⁺ = 2x + u + w (c = x² + u²)
 from x_0 = 0 under i.i.d., sinusoidal, bursty and worst-case disturbances (the worst case of LQR,

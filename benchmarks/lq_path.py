@@ -1,4 +1,4 @@
-"""Benchmark 2 (issue 2, "Performance"): the exact linear-quadratic closed loop.
+"""Benchmark 2: the exact linear-quadratic closed loop.
 
 T = 1000 closed-loop steps of Algorithm 1 with M = 50 on ``orrc.examples.two_mass_spring()``
 (n = 4, m = 1), previewed disturbances w_t drawn from a ball:
@@ -7,22 +7,20 @@ T = 1000 closed-loop steps of Algorithm 1 with M = 50 on ``orrc.examples.two_mas
   path (u_t = −K x_t − L vec(w_t..w_{t+M-1}), Lemma/closed form of ``orrc.solvers.lq``),
   which also records the stage costs c_t, σ(x_t) and V_M(x_t, w_{t:t+M-1}) of every step and
   enforces the preview information pattern. The costs and V_M do not feed back: they are computed
-  after the loop, V_M = z_tᵀ H z_t for all t in one matrix product (``Controller.values_batch``,
-  issue 11); and the law is affine, so the simulator takes its affine fast path
+  after the loop, V_M = z_tᵀ H z_t for all t in one matrix product (``Controller.values_batch``); and the law is affine, so the simulator takes its affine fast path
   (``Controller.fast_affine``): the feed-forward −L vec W_t of every step's own window in one
   product, then the closed loop x_{t+1} = (A − BK) x_t + (B f_t + w_t), one product per step, and
   u_t after the loop;
 * a bare numpy loop with the same precomputed law (K = rhc.law.K, L = rhc.law.L) and the
   dynamics x_{t+1} = A x_t + B u_t + w_t, in three versions:
-  - "floor": only the law, written as in issue 2 (u = −K x − L vec W), and the dynamics --
+  - "floor": only the law, written directly (u = −K x − L vec W), and the dynamics --
     the least work that produces the trajectory; the target is stated against it;
   - "fused floor": the same with K and L stacked into one product (a faster floor, reported);
   - "+ bookkeeping": the floor plus c_t = x_tᵀQx_t + u_tᵀRu_t and V_M = zᵀHz,
     z = [x_t; vec W_t], in the loop, i.e. the same outputs as orrc.
 
-All trajectories must agree to 1e-12 (and costs/values to 1e-12 relative). The target
-(issue 11): orrc within 1.5× of the floor loop (issue 2 asked for 3×, and well under a second:
-we require < 0.5 s).
+All trajectories must agree to 1e-12 (and costs/values to 1e-12 relative). The target:
+orrc within 1.5× of the floor loop, and well under a second (< 0.5 s).
 Repetitions are interleaved (orrc, floor, fused floor, bookkeeping, orrc, ...) so that a
 load change on the machine hits all of them alike; medians are reported.
 """
@@ -36,7 +34,7 @@ from orrc.solvers import lq
 from .common import CheckFailed, Row, fmt_time, timed, wall_median
 
 TARGET_RATIO = 1.5
-TARGET_SAME_OUTPUTS = 1.0  # issue 22: orrc no slower than a numpy loop producing the same outputs
+TARGET_SAME_OUTPUTS = 1.0  # orrc no slower than a numpy loop producing the same outputs
 TARGET_SECONDS = 0.5
 ATOL = 1e-12
 

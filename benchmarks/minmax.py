@@ -1,4 +1,4 @@
-"""Benchmark 3 (issue 13): the min-max problem of Algorithm 3, exact vertex epigraph vs scenario exchange.
+"""Benchmark 3: the min-max problem of Algorithm 3, exact vertex epigraph vs scenario exchange.
 
 1. **Linear, n = 2, M = 4..8** (a fixed random system, x_{t+1} = A x_t + B u_t + w_t with A of
    spectral radius 1.1, Q = I, R = 0.1, W = [-0.3, 0.5] × [-0.2, 0.2]): from three states, the exact

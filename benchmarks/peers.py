@@ -1,4 +1,4 @@
-"""Benchmark (issue 22): the pendulum's closed loop against the tools a user would pick.
+"""Benchmark: the pendulum's closed loop against the tools a user would pick.
 
 The problem of ``benchmarks/pendulum.py`` (``orrc.examples.inverted_pendulum()``, M = 20, |u| <= 20)
 run in closed loop for T = 200 steps from (0.5, 0) under a disturbance drawn from a ball (radius

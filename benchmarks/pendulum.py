@@ -1,4 +1,4 @@
-"""Benchmark 1 (issue 2, "Performance"): one receding-horizon step on the nonlinear pendulum.
+"""Benchmark 1: one receding-horizon step on the nonlinear pendulum.
 
 The problem (Eq. 3 of the paper for ``orrc.examples.inverted_pendulum()``), M = 20, |u| <= 20:
 
@@ -12,7 +12,7 @@ solved by
   SQP (CasADi's ``sqpmethod`` with the QP solver ``qrqp``, exact derivatives; the NLP's functions and
   the acceptance checks compiled, ``orrc._jit``, as a controller does by itself after some solves),
   cold-started (zero inputs, the state held over the horizon); and, in the same run, the same problem with
-  ``solver="ipopt"`` (IPOPT, the fallback rung and the solver before issue 11);
+  ``solver="ipopt"`` (IPOPT, the fallback rung and the default solver of earlier releases);
 * python-control 0.10.2: ``control.optimal.solve_ocp`` on a discrete-time
   ``NonlinearIOSystem`` (dt = 0.05) whose update function is the same model written
   in numpy with the previewed disturbance folded in (w_k picked by the time index
@@ -23,10 +23,10 @@ solved by
 
 Times are CPU time (``process_time``) with one BLAS thread (``benchmarks/run.py``), the wall time
 beside the target's. All input sequences are evaluated by one independent numpy rollout of the cost
-(:func:`rollout`): orrc's SQP and IPOPT answers must agree to 1e-6 relative (issue 11), and
+(:func:`rollout`): orrc's SQP and IPOPT answers must agree to 1e-6 relative, and
 solve_ocp's to 1e-4 (SLSQP with finite differences; measured 4e-10 to 5e-8). The target
-(issue 11) is orrc's cold step at least 1000× faster than solve_ocp (median over repetitions,
-same run; issue 2 asked for 50×). Reported beside it: IPOPT's cold step, the next RHC step
+is orrc's cold step at least 1000× faster than solve_ocp (median over repetitions,
+same run). Reported beside it: IPOPT's cold step, the next RHC step
 warm-started from the shifted plan against a cold solve of that same step (time and
 iterations, SQP and IPOPT), and the one-off build of the CasADi solvers.
 """
@@ -42,7 +42,7 @@ DT, G_OVER_L, FRICTION, U_MAX = 0.05, 9.81, 0.1, 20.0
 Q_THETA, Q_OMEGA, R_U = 10.0, 1.0, 0.1
 TARGET_SPEEDUP = 1000.0
 VALUE_RTOL = 1e-4   # orrc against solve_ocp (SLSQP, finite differences)
-SAME_RTOL = 1e-6    # orrc's SQP against its IPOPT (issue 11)
+SAME_RTOL = 1e-6    # orrc's SQP against its IPOPT
 
 
 def step(x, u, w):

@@ -1,4 +1,4 @@
-"""Benchmark (issue 22): the regret-optimal controller at the literature's scale, structured vs SDP.
+"""Benchmark: the regret-optimal controller at the literature's scale, structured vs SDP.
 
 ``orrc.RegretOptimal`` by its structure (``method="structured"``: a causal factor of S, Arveson's
 distance formula and Parrott's completion, ``orrc.solvers.regret``) at T = 30 with n = 3, m = 2 (the size

@@ -1,11 +1,11 @@
 """Entry point of ``make bench``: ``python -m benchmarks.run [--quick] [--only NAME]``.
 
 Runs, with one BLAS thread for every tool (``benchmarks/common.py``), the closed-loop comparison
-with the peers of issue 22 (``benchmarks/peers.py``: bare CasADi, do-mpc, acados, python-control;
-CPU and wall time), the performance benchmarks of issues 2 and 11 (see ``benchmarks/pendulum.py``,
-``benchmarks/closed_loop.py`` and ``benchmarks/lq_path.py``), the comparison table of issue 14 and
-the min-max benchmark of issue 13 (``benchmarks/minmax.py``), the explorers' re-draw times in a live
-kernel (``benchmarks/widgets.py``, issue 11), prints the machine and a Markdown table of results,
+with the peers (``benchmarks/peers.py``: bare CasADi, do-mpc, acados, python-control;
+CPU and wall time), the performance benchmarks (see ``benchmarks/pendulum.py``,
+``benchmarks/closed_loop.py`` and ``benchmarks/lq_path.py``), the comparison chapter's table and
+the min-max benchmark (``benchmarks/minmax.py``), the explorers' re-draw times in a live
+kernel (``benchmarks/widgets.py``), prints the machine and a Markdown table of results,
 and exits with status 1 if a target is missed or a correctness check fails
 (status 0 otherwise). ``--quick`` runs tiny sizes: it checks that the benchmarks
 work, and its timings mean nothing.
@@ -47,7 +47,7 @@ def main(argv=None) -> int:
           + "".join(f" --only {n}" for n in (args.only or [])))
     rows, failures = [], []
     t0 = time.perf_counter()
-    with one_thread():  # every tool with one BLAS thread (issue 22); the peers' child processes too
+    with one_thread():  # every tool with one BLAS thread; the peers' child processes too
         print(f"BLAS thread pools (threadpoolctl): {blas_threads()}")
         for name in names:
             try:

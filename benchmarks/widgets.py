@@ -1,4 +1,4 @@
-"""Benchmark 6 (issue 11): how fast the book's explorers re-draw in a live kernel.
+"""Benchmark 6: how fast the book's explorers re-draw in a live kernel.
 
 For every notebook chapter of ``_toc.yml`` (or those given): start a Python kernel (jupyter_client,
 the ``python3`` kernel of this environment, working directory ``book/``, matplotlib's default

@@ -42,7 +42,33 @@ def watched() -> bool:
 def progress(iterable, desc: str | None = None, total: int | None = None, delay: float = 2.0):
     """``iterable`` with a progress bar while a reader is watching (:func:`watched`), else ``iterable``
     itself. ``desc``: the bar's label; ``total``: the number of items (default ``len(iterable)`` when
-    it has one); ``delay``: seconds before the bar appears (a loop that ends sooner shows none)."""
+    it has one); ``delay``: seconds before the bar appears (a loop that ends sooner shows none).
+
+    Parameters
+    ----------
+    iterable : what to loop over.
+    desc : the bar's label.
+    total : the number of items (default ``len(iterable)`` when it has one).
+    delay : seconds before the bar appears.
+
+    Returns
+    -------
+    iterable
+        ``iterable`` itself, or a ``tqdm`` bar over it that yields the same items.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``iterable`` cannot be looped over, or ``desc``, ``total`` or ``delay`` is malformed.
+
+    Examples
+    --------
+    Outside a live kernel or a terminal (here) the loop runs without a bar:
+
+    >>> import orrc
+    >>> [M * M for M in orrc.progress(range(4), desc="horizons")]
+    [0, 1, 4, 9]
+    """
     from ._validate import OrrcValueError, as_float, as_int
 
     if not hasattr(iterable, "__iter__"):
@@ -63,7 +89,31 @@ def progress(iterable, desc: str | None = None, total: int | None = None, delay:
 def working(message: str, delay: float = 2.0):
     """A status line "⏳ ``message`` …" while the block runs, where a reader watches in a live kernel
     (:func:`watched`, a kernel only: a terminal gets nothing). At the end the line is emptied when the
-    block took less than ``delay`` seconds, else it says "``message``: done in 6.7 s"."""
+    block took less than ``delay`` seconds, else it says "``message``: done in 6.7 s".
+
+    Parameters
+    ----------
+    message : what the call is doing (a non-empty string).
+    delay : seconds below which the line is removed at the end.
+
+    Yields
+    ------
+    None
+        the block runs inside the context.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``message`` is not a non-empty string or ``delay`` is negative.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> with orrc.working("building the controllers"):
+    ...     ex = orrc.examples.double_integrator()
+    >>> ex.system.n
+    2
+    """
     from ._validate import OrrcValueError, as_float
 
     if not isinstance(message, str) or not message:

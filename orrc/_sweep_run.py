@@ -24,6 +24,26 @@ class SweepError(RuntimeError):
 
     Attributes: ``point`` (the grid point, a dict), ``seed`` (the seed passed, or None), ``row``
     (the run's index in the table). The original exception is ``__cause__``.
+
+    Parameters
+    ----------
+    message : what raised, at which grid point and seed.
+    point : the grid point, a dict.
+    seed : the seed passed, or None.
+    row : the run's index in the table.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> def fn(M):
+    ...     if M == 2:
+    ...         raise ValueError("no")
+    ...     return M
+    >>> try:
+    ...     orrc.sweep(fn, {"M": [1, 2, 3]}, backend="serial")
+    ... except orrc.SweepError as err:
+    ...     print(err.point, err.row, type(err.__cause__).__name__)
+    {'M': 2} 1 ValueError
     """
 
     def __init__(self, message: str, point=None, seed=None, row=None):

@@ -36,15 +36,52 @@ class OrrcValueError(ValueError):
     Raised for input of the wrong type, shape or range, non-finite or complex input, empty
     dimensions, and computations too large for the limits of ``orrc.config`` (the message
     then states the estimate and the limit).
+
+    Examples
+    --------
+    >>> import orrc
+    >>> try:
+    ...     orrc.LinearSystem([[1.0, 0.1], [0.0, 1.0]], [[0.0], [0.1], [1.0]])
+    ... except orrc.OrrcValueError as err:
+    ...     print(err)
+    B must have shape (2, m) with m >= 1 to match A of shape (2, 2); got shape (3, 1)
     """
 
 
 class SizeWarning(UserWarning):
-    """A computation is large (above ``orrc.config`` 's warning thresholds) but allowed."""
+    """A computation is large (above ``orrc.config`` 's warning thresholds) but allowed.
+
+    Examples
+    --------
+    A computation above the warning threshold runs, and says how large it is:
+
+    >>> import warnings
+    >>> import orrc
+    >>> with orrc.config.limits(warn_bytes=1e3), warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     vertices = orrc.Box(-1.0, 1.0, n=8).vertices()
+    >>> vertices.shape, [w.category.__name__ for w in caught]
+    ((256, 8), ['SizeWarning'])
+    """
 
 
 class NonFiniteWarning(RuntimeWarning):
-    """A result overflowed (inf or NaN) although the input was finite; the message says where."""
+    """A result overflowed (inf or NaN) although the input was finite; the message says where.
+
+    Examples
+    --------
+    An unstable loop whose state stays finite while its stage costs overflow:
+
+    >>> import warnings
+    >>> import numpy as np
+    >>> import orrc
+    >>> ex = orrc.examples.scalar_unstable(A=1e100)
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     traj = orrc.simulate(ex.system, orrc.ZeroInput(1, ex.cost), [1.0], np.zeros((3, 1)), T=3)
+    >>> [w.category.__name__ for w in caught]
+    ['NonFiniteWarning']
+    """
 
 
 def _describe(value) -> str:
@@ -230,8 +267,17 @@ def check_evaluates(name: str, what: str, evaluate, n: int, m: int) -> None:
 class Limits:
     """The size limits of one computation (documented in :mod:`orrc.config`, which sets them).
 
+    Attributes
+    ----------
     max_bytes, max_ops : refuse (``OrrcValueError``) above these estimates.
     warn_bytes, warn_ops : warn (``orrc.SizeWarning``) above these.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> limits = orrc.config.get_limits()
+    >>> sorted(vars(limits))
+    ['max_bytes', 'max_ops', 'warn_bytes', 'warn_ops']
     """
 
     max_bytes: float = 4 * 2 ** 30
@@ -252,7 +298,20 @@ def limit_value(name: str, value) -> float:
 
 def get_limits() -> Limits:
     """The limits in force: read from the environment variables ``ORRC_MAX_BYTES``, ``ORRC_MAX_OPS``,
-    ``ORRC_WARN_BYTES``, ``ORRC_WARN_OPS`` on first use, then as :func:`orrc.config.set_limits` sets them."""
+    ``ORRC_WARN_BYTES``, ``ORRC_WARN_OPS`` on first use, then as :func:`orrc.config.set_limits` sets them.
+
+    Returns
+    -------
+    Limits
+        ``max_bytes``, ``max_ops``, ``warn_bytes``, ``warn_ops``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> with orrc.config.limits(warn_ops=1e9):
+    ...     print(orrc.config.get_limits().warn_ops)
+    1000000000.0
+    """
     global _limits
     if _limits is None:
         values = {}

@@ -44,7 +44,15 @@ def _name(name) -> str:
 
 
 class StageCost:
-    """A cost family c(x, u; p). Subclasses set n, m, n_params, default_params, alpha_lo."""
+    """A cost family c(x, u; p). Subclasses set n, m, n_params, default_params, alpha_lo.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> cost = orrc.examples.double_integrator().cost
+    >>> isinstance(cost, orrc.StageCost), cost.n, cost.m, cost.n_params
+    (True, 2, 1, 5)
+    """
 
     n: int | None
     m: int | None
@@ -130,6 +138,26 @@ class QuadraticCost(StageCost):
     Q must be symmetric positive semidefinite, R symmetric positive definite.
     Parameters p = (vec Q, vec R), so a time-varying sequence is
     :meth:`QuadraticCost.sequence` (Q_t, R_t).
+
+    Parameters
+    ----------
+    Q : (n, n) symmetric positive semidefinite state weight (a scalar for n = 1).
+    R : (m, m) symmetric positive definite input weight (a scalar for m = 1).
+    alpha_lo : a constant with c(x, u) >= alpha_lo ‖x‖² (default λ_min(Q)).
+    name : a label for plots.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When Q is not PSD, R not PD, or their shapes do not match.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> cost = orrc.QuadraticCost(np.diag([1.0, 0.1]), 0.1)
+    >>> cost.value(np.array([1.0, 2.0]), np.array([1.0])), cost.alpha_lo
+    (1.5, 0.1)
     """
 
     def __init__(self, Q, R, alpha_lo: float | None = None, name: str = "quadratic cost"):
@@ -218,6 +246,21 @@ class Cost(DropsBuffers, StageCost):
     default_params : p used when the cost is time-invariant.
     sigma : numeric σ(x) >= 0 of Assumption 2 (default ‖x‖²).
     alpha_lo : a constant with c(x, u; p) >= alpha_lo σ(x) for all x, u, p, if known.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``fun`` does not return a finite scalar at construction (e.g. ``math.sin`` applied to a
+        CasADi symbol).
+
+    Examples
+    --------
+    >>> import casadi as ca
+    >>> import numpy as np
+    >>> import orrc
+    >>> cost = orrc.Cost(lambda x, u: x[0] ** 2 + 1 - ca.cos(x[1]) + u[0] ** 2, n=2, m=1)
+    >>> print(cost.value(np.array([1.0, 0.0]), np.array([2.0])))
+    5.0
     """
 
     def __init__(self, fun: Callable, n: int, m: int, n_params: int = 0, default_params=None,
@@ -279,6 +322,24 @@ class CostSequence:
 
     ``params[t]`` are the parameters of c_t. Past the last row, the last cost is
     repeated (a controller whose preview runs past the end sees the final cost).
+
+    Parameters
+    ----------
+    stage : the cost family c(x, u; p) (a :class:`StageCost`).
+    params : (T, n_params) one row of parameters per step.
+    alpha_lo : a constant with c_t(x, u) >= alpha_lo σ(x) for every t (default: the family's bound
+        over the rows, e.g. min_t λ_min(Q_t) for a quadratic family).
+
+    Examples
+    --------
+    Q_t = 1 + t for three steps, built by :meth:`QuadraticCost.sequence`:
+
+    >>> import numpy as np
+    >>> import orrc
+    >>> cost = orrc.QuadraticCost(1.0, 1.0)
+    >>> seq = cost.sequence([np.eye(1) * (1 + t) for t in range(3)], [np.eye(1)] * 3)
+    >>> isinstance(seq, orrc.CostSequence), seq.alpha_lo
+    (True, 1.0)
     """
 
     def __init__(self, stage: StageCost, params, alpha_lo: float | None = None):
@@ -324,6 +385,20 @@ class L1Cost(StageCost):
     On a :class:`~orrc.LinearSystem`, :class:`~orrc.PreviewRHC` solves its M-step problem exactly as
     a quadratic program (``orrc.solvers.qp``); elsewhere the CasADi path uses |x| (``fabs``), which is
     not smooth at 0. Time invariant (no parameters).
+
+    Parameters
+    ----------
+    q : (n,) positive weights of |x_i| (a scalar is used for every i).
+    R : (m, m) symmetric positive definite input weight.
+    name : a label for plots.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> cost = orrc.L1Cost([1.0, 0.5], 0.1)
+    >>> print(cost.value(np.array([1.0, -2.0]), np.array([1.0])), cost.alpha_lo)
+    2.1 0.5
     """
 
     def __init__(self, q, R, name: str = "l1 cost"):

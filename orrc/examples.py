@@ -21,6 +21,26 @@ from .systems import LinearSystem, NonlinearSystem, System
 
 @dataclass
 class Example:
+    """A worked example of the book: a system of Eq. (1), a stage cost, a start and a horizon.
+
+    Attributes
+    ----------
+    name : the constructor's name ("double_integrator", ...).
+    system : the :class:`~orrc.System`.
+    cost : the :class:`~orrc.StageCost` c(x, u).
+    x0 : (n,) the initial state the book starts from.
+    M : the preview horizon the book uses with it.
+    input_bounds : (lo, hi) of the input set U, or None.
+    description : one line for tables and titles.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.double_integrator()
+    >>> ex.system, ex.x0, ex.M, ex.input_bounds
+    (LinearSystem(n=2, m=1, name='double integrator'), array([1., 0.]), 10, None)
+    """
+
     name: str
     system: System
     cost: StageCost
@@ -42,6 +62,29 @@ def scalar_unstable(A: float = 2.0, B: float = 1.0, q: float = 1.0, r: float = 1
     linear system (``LinearSystem(A, B)``); in the book ``a`` is only the paper's decay rate
     and ``b`` only Lemma 2's constant. The old keywords ``a`` and ``b`` for the coefficients
     are still accepted, with a :class:`DeprecationWarning`.
+
+    Parameters
+    ----------
+    A, B : the coefficients of x+ = A x + B u + w (B != 0).
+    q, r : the cost's weights, q >= 0 and r > 0.
+    a, b : deprecated names of A and B.
+
+    Returns
+    -------
+    Example
+        ``system``, ``cost``, ``x0``, ``M``, ``input_bounds`` and a ``description``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a coefficient is not finite, B = 0, q < 0 or r <= 0.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.scalar_unstable(A=2.0, B=1.0)
+    >>> ex.system.A, ex.system.B, ex.x0
+    (array([[2.]]), array([[1.]]), array([1.]))
     """
     for old, new_name, given, default in (("a", "A", A, 2.0), ("b", "B", B, 1.0)):
         value = a if old == "a" else b
@@ -64,7 +107,27 @@ def scalar_unstable(A: float = 2.0, B: float = 1.0, q: float = 1.0, r: float = 1
 
 
 def double_integrator(dt: float = 0.1, q_vel: float = 0.1, r: float = 0.1) -> Example:
-    """Position/velocity of a unit mass pushed by u, sampled with period dt (exact ZOH)."""
+    """Position/velocity of a unit mass pushed by u, sampled with period dt (exact ZOH).
+
+    Parameters
+    ----------
+    dt : the sampling period, > 0.
+    q_vel : the velocity's weight in Q = diag(1, q_vel).
+    r : the input weight R.
+
+    Returns
+    -------
+    Example
+        ``system``, ``cost``, ``x0``, ``M``, ``input_bounds`` and a ``description``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.double_integrator(dt=0.1)
+    >>> ex.system.A
+    array([[1. , 0.1],
+           [0. , 1. ]])
+    """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
     q_vel, r = as_float("q_vel", q_vel, minimum=0.0), as_float("r", r, minimum=0.0, strict_min=True)
     A = np.array([[1.0, dt], [0.0, 1.0]])
@@ -78,6 +141,23 @@ def two_mass_spring(dt: float = 0.1, k: float = 1.0, c: float = 0.05) -> Example
     """Two unit masses joined by a spring (k) and damper (c), force on the first: n = 4, m = 1.
 
     State (p1, p2, v1, v2); continuous dynamics discretised by ``control.sample_system`` (ZOH).
+
+    Parameters
+    ----------
+    dt : the sampling period, > 0.
+    k, c : the spring's stiffness and the damper's coefficient.
+
+    Returns
+    -------
+    Example
+        ``system``, ``cost``, ``x0``, ``M``, ``input_bounds`` and a ``description``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.two_mass_spring()
+    >>> ex.system.n, ex.system.m, ex.x0
+    (4, 1, array([ 1., -1.,  0.,  0.]))
     """
     import control
 
@@ -99,6 +179,25 @@ def inverted_pendulum(dt: float = 0.05, g_over_l: float = 9.81, friction: float 
         φ_{t+1} = φ_t + dt ω_t,   ω_{t+1} = ω_t + dt (g/l sin φ_t − friction ω_t + u_t),  plus w_t.
 
     Cost c = 10 φ² + ω² + 0.1 u², input bounds |u| <= u_max.
+
+    Parameters
+    ----------
+    dt : the sampling period, > 0.
+    g_over_l : g / l, the gravity term.
+    friction : the viscous friction coefficient.
+    u_max : the input bound |u| <= u_max.
+
+    Returns
+    -------
+    Example
+        ``system``, ``cost``, ``x0``, ``M``, ``input_bounds`` and a ``description``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.inverted_pendulum()
+    >>> ex.system, ex.x0, ex.input_bounds
+    (NonlinearSystem(n=2, m=1, name='inverted pendulum'), array([0.5, 0. ]), (-20.0, 20.0))
     """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
     g_over_l = as_float("g_over_l", g_over_l, minimum=0.0)
@@ -120,6 +219,25 @@ def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0, r: float =
         x1+ = x1 + dt x2,  x2+ = x2 + dt (mu (1 − x1²) x2 − x1 + u),  plus w.
 
     Cost c = x1² + x2² + r u² (r: the input weight, 0.1 by default), |u| <= u_max.
+
+    Parameters
+    ----------
+    dt : the sampling period, > 0.
+    mu : the oscillator's nonlinearity.
+    u_max : the input bound |u| <= u_max.
+    r : the input weight.
+
+    Returns
+    -------
+    Example
+        ``system``, ``cost``, ``x0``, ``M``, ``input_bounds`` and a ``description``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.van_der_pol()
+    >>> ex.system, ex.x0, ex.M
+    (NonlinearSystem(n=2, m=1, name='Van der Pol oscillator'), array([1.5, 0. ]), 15)
     """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
     mu = as_float("mu", mu, minimum=0.0)

@@ -32,6 +32,33 @@ def attenuation_regret(traj, gamma: float, cumulative: bool = False):
     grows, and a bounded R implies a bounded positive part, so this function
     returns the signed quantity (the more informative one) and ``max(R, 0)`` gives
     the other. ``cumulative=True`` returns the running values R^p_t(γ), t = 1..T.
+
+    Parameters
+    ----------
+    traj : the :class:`~orrc.Trajectory` of a run.
+    gamma : the attenuation level γ >= 0.
+    cumulative : return the running values instead of the total.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        R^p_T(γ), or (T,) the values R^p_t(γ) for t = 1..T when ``cumulative``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``gamma`` is negative or not finite, or the trajectory has failed steps.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
+    >>> print(f"{orrc.attenuation_regret(traj, gamma=40.0):.4f}")
+    -0.6526
+    >>> orrc.attenuation_regret(traj, gamma=40.0, cumulative=True).shape
+    (50,)
     """
     traj = _traj(traj)
     gamma = as_float("gamma", gamma, minimum=0.0)
@@ -48,6 +75,29 @@ def attenuation_ratio(traj) -> float:
     """Σ c_t / Σ ‖w_t‖²: the smallest γ with R^p_T(γ) <= 0 on this trajectory.
 
     Raises when the trajectory had no disturbance energy (the ratio is undefined).
+
+    Parameters
+    ----------
+    traj : the :class:`~orrc.Trajectory` of a run.
+
+    Returns
+    -------
+    float
+        Σ_{t<T} c_t / Σ_{t<T} ‖w_t‖².
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When Σ ‖w_t‖² = 0, or the trajectory has failed steps.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
+    >>> print(f"{orrc.attenuation_ratio(traj):.4f}")
+    37.5290
     """
     traj = _traj(traj)
     energy = float(np.sum(traj.w * traj.w))
@@ -62,7 +112,33 @@ def dynamic_regret(traj, reference) -> float:
     """Σ_{t<T} c_t(x_t, u_t) − Σ_{t<T} c_t(x*_t, u*_t), the cost above the best input
     sequence in hindsight. ``reference`` is the trajectory of
     :class:`~orrc.Clairvoyant` on the same problem (same x0, w, costs, T), or its
-    total cost as a number."""
+    total cost as a number.
+
+    Parameters
+    ----------
+    traj : the :class:`~orrc.Trajectory` of the controller.
+    reference : the clairvoyant's :class:`~orrc.Trajectory` on the same problem, or its total cost.
+
+    Returns
+    -------
+    float
+        Σ_{t<T} c_t(x_t, u_t) − Σ_{t<T} c_t(x*_t, u*_t) (>= 0 up to the solvers' tolerance).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the two runs are not of the same problem (T, x0, w), or the reference's solve failed.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
+    >>> best = orrc.simulate(di.system, orrc.Clairvoyant(di.system, di.cost, T=50), di.x0, w, T=50)
+    >>> print(f"{orrc.dynamic_regret(traj, best):.4f}")
+    0.2222
+    """
     traj = _traj(traj)
     if isinstance(reference, (int, float, np.floating)) and not isinstance(reference, bool):
         ref = as_float("reference", reference)

@@ -42,6 +42,17 @@ class ParametricSystem(System):
 
     A ParametricSystem has no θ of its own: simulate ``model.at(theta_true)`` and control with
     ``orrc.PreviewRHC(model, cost, M, theta=theta_hat)``.
+
+    Examples
+    --------
+    x_{t+1} = θ_0 x_t + θ_1 u_t + w_t, simulated at θ = (2, 1):
+
+    >>> import numpy as np
+    >>> import orrc
+    >>> model = orrc.ParametricSystem(lambda x, u, w, th: th[0] * x + th[1] * u + w, 1, 1, 2)
+    >>> true = model.at([2.0, 1.0])
+    >>> true.step(np.array([1.0]), np.array([0.5]), np.zeros(1))
+    array([2.5])
     """
 
     def __init__(self, f: Callable, n_states: int, n_inputs: int, n_params: int,
@@ -152,6 +163,22 @@ class LinearParametricSystem(ParametricSystem):
     :meth:`at` returns a :class:`~orrc.LinearSystem`, so a controller built on an estimate takes
     the exact LQ path; :meth:`pack` / :meth:`unpack` convert between (A, B) and θ. The norm of
     θ̂ - θ is the Frobenius norm of [Â - A, B̂ - B] (the paper's ‖θ̂ - θ‖_F of Section 5.2).
+
+    Parameters
+    ----------
+    n, m : the state and input dimensions; θ has n(n + m) entries.
+    name : a label for plots.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> model = orrc.ParametricSystem.linear(2, 1)
+    >>> theta = model.pack(np.array([[1.0, 0.1], [0.0, 1.0]]), np.array([[0.0], [0.1]]))
+    >>> theta
+    array([1. , 0.1, 0. , 0. , 1. , 0.1])
+    >>> model.at(theta)
+    LinearSystem(n=2, m=1, name='linear system (θ fixed)')
     """
 
     def __init__(self, n: int, m: int, name: str = "linear system, (A, B) unknown"):

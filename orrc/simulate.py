@@ -79,6 +79,34 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None, 
     :class:`~orrc.SolverError` from the controller propagates with ``.trajectory`` (the run so
     far); a diverging state raises ``FloatingPointError``; overflowed costs, σ or V_M warn
     (:class:`~orrc.NonFiniteWarning`).
+
+    Returns
+    -------
+    Trajectory
+        the run: states ``x`` (T+1, n), inputs ``u`` (T, m), disturbances ``w`` (T, n), stage costs
+        ``costs`` (T,), σ(x_t) ``sigma`` (T+1,), V_M ``values`` (T,) or None, and each step's solver
+        report.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When an argument does not match the system (x0's length, w's shape or length, the
+        controller's dimensions) or T is out of range.
+    orrc.SolverError
+        When the controller stops after repeated solver failures.
+    FloatingPointError
+        When the state or the input becomes inf or NaN.
+
+    Examples
+    --------
+    Algorithm 1 on the double integrator, the disturbance previewed 10 steps ahead:
+
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
+    >>> print(f"{traj.costs.sum():.4f}")
+    9.9116
     """
     rec = _prepare(system, controller, x0, w, T, costs)
     forecasts = _prepare_forecast(forecast, controller, rec)

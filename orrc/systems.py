@@ -38,7 +38,15 @@ def traced(f: Callable, args: tuple, n: int, signature: str):
 
 
 class System:
-    """Common interface; see :class:`LinearSystem` and :class:`NonlinearSystem`."""
+    """Common interface; see :class:`LinearSystem` and :class:`NonlinearSystem`.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.double_integrator()
+    >>> isinstance(ex.system, orrc.System), ex.system.n, ex.system.m
+    (True, 2, 1)
+    """
 
     n: int
     m: int
@@ -65,6 +73,21 @@ class LinearSystem(System):
     A : (n, n) array
     B : (n, m) array (a 1-D array is read as a single input column)
     name : optional label used in plots.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When A is not square, B's rows do not match A, or an entry is not finite.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> sys = orrc.LinearSystem([[1.0, 0.1], [0.0, 1.0]], [[0.0], [0.1]])
+    >>> sys.n, sys.m
+    (2, 1)
+    >>> sys.step(np.array([1.0, 0.0]), np.array([1.0]), np.zeros(2))   # A x + B u + w
+    array([1. , 0.1])
     """
 
     def __init__(self, A, B, name: str = "linear system"):
@@ -134,6 +157,29 @@ class NonlinearSystem(DropsBuffers, System):
     At construction ``f`` is evaluated once (at the origin, or at a generic point if it is not
     finite there) and refused when the result is not finite: ``math.sin`` or numpy applied to a
     CasADi symbol traces to NaN everywhere instead of failing.
+
+    Parameters
+    ----------
+    f : the update f(x, u, w) in CasADi operations, returning the next state (length ``n_states``).
+    n_states, n_inputs : n and m.
+    name : a label for plots.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``f`` fails on CasADi symbols, returns the wrong length, or is not finite at the point
+        where it is evaluated.
+
+    Examples
+    --------
+    >>> import casadi as ca
+    >>> import numpy as np
+    >>> import orrc
+    >>> def f(x, u, w):   # a pendulum, Euler-sampled with dt = 0.05
+    ...     return ca.vertcat(x[0] + 0.05 * x[1], x[1] + 0.05 * (9.81 * ca.sin(x[0]) + u[0])) + w
+    >>> pend = orrc.NonlinearSystem(f, n_states=2, n_inputs=1)
+    >>> pend.step(np.array([0.1, 0.0]), np.array([0.0]), np.zeros(2))
+    array([0.1       , 0.04896829])
     """
 
     def __init__(self, f: Callable, n_states: int, n_inputs: int, name: str = "nonlinear system"):

@@ -22,8 +22,10 @@ from .costs import QuadraticCost, StageCost
 
 @dataclass
 class Trajectory:
-    """The result of :func:`simulate`.
+    """The result of :func:`simulate`: the closed loop of Eq. (1) and what the controller reported.
 
+    Attributes
+    ----------
     x : (T+1, n) states x_0..x_T
     u : (T, m) inputs
     w : (T, n) the disturbances that acted
@@ -49,6 +51,15 @@ class Trajectory:
     iterations, solve_times : (T,) solver iterations and seconds per step
     wall_time : seconds for the whole simulation
     info : what the controller recorded during the run (``Controller.record()``; empty by default)
+
+    Examples
+    --------
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
+    >>> traj.x.shape, traj.u.shape, traj.costs.shape, traj.values.shape
+    ((51, 2), (50, 1), (50,), (50,))
     """
 
     x: np.ndarray

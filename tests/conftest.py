@@ -186,7 +186,7 @@ def batch_optimum(A, B, Q, R, M, x, W, cond=False):
 
 
 
-#: options that make every NLP solve of the pendulum fail (issue 9's forced failure, on the default NLP
+#: options that make every NLP solve of the pendulum fail (the forced failure, on the default NLP
 #: path: one SQP iteration does not reach its tolerance from a cold start, nor one IPOPT iteration)
 FORCED_FAILURE = {"sqpmethod.max_iter": 1, "ipopt.max_iter": 1}
 

@@ -1,4 +1,4 @@
-"""The book's API reference (issue 24): every public name of ``orrc`` has an entry, every public
+"""The book's API reference: every public name of ``orrc`` has an entry, every public
 module a page, each entry shows its signature and its docstring's sections rendered.
 
 The reference is generated at build time from the docstrings (tools/sphinx_api.py); the HTML

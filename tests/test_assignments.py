@@ -1,4 +1,4 @@
-"""The graded assignments (issues 15 and 20): otter-grader builds them, their autograders grade
+"""The graded assignments: otter-grader builds them, their autograders grade
 anywhere, their solutions get full marks, and each plausible wrong submission loses points in
 its own question only.
 

@@ -1,4 +1,4 @@
-"""Bad input gets a clear error, across the whole public API (issue 9).
+"""Bad input gets a clear error, across the whole public API.
 
 One table of cases (the format of ``tests/bad_input.py``): every public function and class of
 ``orrc``, ``orrc.theory``, ``orrc.certify``, ``orrc.checks``, ``orrc.disturbances``,
@@ -502,7 +502,7 @@ def test_the_table_covers_the_public_api():
     import orrc.controllers.gpc
     import orrc.solvers.game
     import orrc.tradeoff
-    from test_bad_input_unknown import CASES as CASES_UNKNOWN   # the unknown-system half (issue 12)
+    from test_bad_input_unknown import CASES as CASES_UNKNOWN   # the unknown-system half
 
     assert len(CASES) >= 100
     ids = " ".join(c.id for c in _all_cases() + CASES_UNKNOWN)

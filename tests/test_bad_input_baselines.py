@@ -1,4 +1,4 @@
-"""Bad input to the baselines of issue 14 and to the game solvers: a clear OrrcValueError naming the
+"""Bad input to the baselines of the comparison chapter and to the game solvers: a clear OrrcValueError naming the
 argument, what was given and what is allowed (one table, one case per row)."""
 import numpy as np
 import pytest

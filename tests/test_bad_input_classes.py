@@ -1,4 +1,4 @@
-"""Bad input by class across the newer API (issue 23): each class of failure, on every public function it
+"""Bad input by class across the newer API: each class of failure, on every public function it
 applies to, gets a clear ``orrc.OrrcValueError`` naming the argument (or a warning where the input is valid
 and the result overflows).
 

@@ -1,4 +1,4 @@
-"""Bad input to the unknown-system half of orrc (issue 12): a clear error naming the argument.
+"""Bad input to the unknown-system half of orrc: a clear error naming the argument.
 
 One table of cases in the format of ``tests/bad_input.py``: ParametricSystem, L1Cost, Algorithm 2, the
 estimators of ``orrc.estimation``, Lemma 3's constants, the theory and checks of Section 5.2 and the

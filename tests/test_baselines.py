@@ -1,4 +1,4 @@
-"""The baselines of the comparison chapter (issue 14): the clairvoyant optimum is never beaten, the
+"""The baselines of the comparison chapter: the clairvoyant optimum is never beaten, the
 value of preview decays geometrically, GPC's regret is sub-linear, RegretOptimal minimises the
 worst-case regret among causal controllers, and worst_case_regret is the exact worst case."""
 import numpy as np

@@ -1,4 +1,4 @@
-"""The rendered book as a reader meets it (issue 4).
+"""The rendered book as a reader meets it.
 
 The book is built ONCE per test session (the ``book`` fixture of ``conftest.py``:
 ``tools.build_book.build``, every chapter executed, ``-n -W --keep-going``) into
@@ -17,7 +17,7 @@ set; tests/test_chapters.py checks the executed notebooks of the same build. The
   encodes in a third of the time of a PNG, and reads as well); at both widths the
   axe-core audit finds no serious or critical violation (reports in ``_build/screenshots/axe/``)
   and every element that runs past the text column sits in a box that scrolls, shows a cue and
-  takes keyboard focus (issue 24). Every image has a text alternative; the execution table's
+  takes keyboard focus. Every image has a text alternative; the execution table's
   status marks need no emoji font.
 
 No Chromium: the browser tests are skipped with a message saying how to enable them,

@@ -1,4 +1,4 @@
-"""No code line of a chapter is longer than 88 characters (issue 24): at 1366 px the book's code
+"""No code line of a chapter is longer than 88 characters: at 1366 px the book's code
 column shows about 95 characters, and a longer line is cut off at the right edge (it scrolls, but
 the reader does not see that it goes on). Counted in the chapters' MyST sources: every line of a
 ``{code-cell}`` and of a fenced code block, hidden cells included (a reader opens them in the

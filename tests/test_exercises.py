@@ -1,4 +1,4 @@
-"""Every chapter ends with 2 to 4 exercises, each with a solution whose code ran in the build (issue 15).
+"""Every chapter ends with 2 to 4 exercises, each with a solution whose code ran in the build.
 
 A chapter is every notebook chapter of the teaching parts of ``_toc.yml`` (``tools.toc.teaching_chapters``:
 not the preface, the course materials, the appendices or a chapter's "Going deeper" sub-pages). Its exercises and solutions are read from its MyST source in the

@@ -1,4 +1,4 @@
-"""The grading commands as an instructor runs them (issue 20): every grading command of the README
+"""The grading commands as an instructor runs them: every grading command of the README
 and of the instructor's guide, verbatim, and the class gradebook they write.
 
 The commands are read from the documents (every ``bash`` block that runs ``otter run`` or

@@ -173,7 +173,7 @@ def test_exchange_reaches_the_exact_value_with_a_hundredth_of_the_vertex_sequenc
     assert exact.certified and exact.gap <= 1e-8 * exact.value
     assert ex.success and ex.gap <= 1e-6 * abs(ex.upper) + 1e-10
     assert abs(ex.value - exact.value) <= 1e-6 * exact.value + 1e-10
-    assert ex.scenarios <= 2 ** (2 * M) // 100                     # the bound: 1/100 of 2^{nM}
+    assert ex.scenarios <= 2 ** (2 * M) // 100                     # the bound: 1/100 of 2^{nM}
     assert ex.evaluations <= 2 ** (2 * M) // 100                   # even counting every sequence it tried
     assert exact.sequences == 2 ** (2 * (M - 1))
 

@@ -1,9 +1,9 @@
 """Solver faults stay contained: the escalation policy of orrc.controllers.failures, one SolverWarning
 per run, failed steps marked in the trajectory, and the checks refusing them.
 
-The forced-failure run of issue 9: the pendulum (M = 20) over T = 200 with every solver limited to one
+The forced-failure run: the pendulum (M = 20) over T = 200 with every solver limited to one
 iteration: on the default NLP path (SQP, then IPOPT) ``FORCED_FAILURE`` (sqpmethod.max_iter = 1,
-ipopt.max_iter = 1), and with ``solver="ipopt"`` alone ``ipopt.max_iter = 1``, as in issue 9. The semantics
+ipopt.max_iter = 1), and with ``solver="ipopt"`` alone ``ipopt.max_iter = 1``. The semantics
 are the same for both: the ladder's rungs are tried, the step falls back, the run stops or warns once.
 """
 import warnings

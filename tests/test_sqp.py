@@ -10,7 +10,7 @@ second-order terms), and their objectives, by a Taylor expansion of the Lagrangi
 by |J_a − J_b| ≤ ‖∇L_b(z_b)‖₂ ‖Δz‖₂ + ½ ‖∇²L_b‖₂ ‖Δz‖₂² + ‖λ_b‖₂ ‖(g, z_A − b_A)_a − (g, z_A − b_A)_b‖₂.
 The tests compute every quantity (κ, the residuals, the multipliers) from the transcription itself,
 assert that each solver's residual is within its tolerance, and that the answers agree within the
-bounds they imply (and to 1e-6 relative in J, the figure of issue 11).
+bounds they imply (and to 1e-6 relative in J).
 """
 import warnings
 
@@ -73,7 +73,7 @@ def _agreement(rhc_sqp, rhc_ipopt, x, W, P=None):
     dJ_bound = (np.linalg.norm(kb["F"][:len(kb["z"])]) * dz_bound + 0.5 * np.linalg.norm(kb["H"], 2) * dz_bound ** 2
                 + np.linalg.norm(kb["lam"]) * np.linalg.norm(ka["con"] - kb["con"]))
     assert abs(ka["f"] - kb["f"]) <= dJ_bound
-    # the stopping criteria imply agreement to 1e-6 relative (issue 11's figure), and it holds
+    # the stopping criteria imply agreement to 1e-6 relative, and it holds
     assert dJ_bound <= 1e-6 * abs(b.value) and abs(a.value - b.value) <= 1e-6 * abs(b.value)
     return dict(dz=dz, dz_bound=dz_bound, dJ=abs(a.value - b.value), dJ_bound=dJ_bound, kappa=kappa)
 

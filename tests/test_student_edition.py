@@ -1,4 +1,4 @@
-"""The solution-free edition (``make book-student``, tools/build_student.py) holds no solution text (issue 15).
+"""The solution-free edition (``make book-student``, tools/build_student.py) holds no solution text.
 
 Built once per session at the test size, after the session's normal build (the ``book`` fixture),
 whose executed chapters it reuses. Then:

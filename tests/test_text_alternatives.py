@@ -1,4 +1,4 @@
-"""Every figure of the book has a text alternative written from what the figure knows (issue 24):
+"""Every figure of the book has a text alternative written from what the figure knows:
 its titles, what is plotted against what, its scales and series; an explorer's frame adds its
 parameter values. No fixed ``alt="figure"``."""
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""orrc.viz is organised one concept per module (issue 24): no module over 400 lines, imports that
+"""orrc.viz is organised one concept per module: no module over 400 lines, imports that
 run one way (no circle, also not through an import inside a function), and the public import paths
 of the split modules kept."""
 from __future__ import annotations

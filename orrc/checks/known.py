@@ -35,6 +35,8 @@ __all__ = ["Margins", "value_bound_margins", "lemma1_margins", "lemma2_margins",
 class Margins:
     """Step-by-step margins of one inequality of the paper.
 
+    Attributes
+    ----------
     t : the step index of each margin (the meaning is given by ``what``).
     bound, actual : the two sides; margin = bound - actual (>= 0: the inequality holds).
     what : which inequality, in words.
@@ -43,6 +45,18 @@ class Margins:
         C + Σ c_t + γ Σ‖w_t‖²). Rounding errors are relative to these terms, not to their
         difference, which may cancel to nearly zero. None: |bound| + |actual| (the sides are
         sums of non-negative terms).
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> m = checks.value_bound_margins(traj, 8, k.alpha_hi, k.gamma_bar)
+    >>> m.margin.shape, m.holds()
+    ((50,), True)
     """
 
     t: np.ndarray
@@ -89,7 +103,25 @@ class Margins:
 @dataclass
 class Lemma1Margins:
     """Both parts of Lemma 1: ``lower`` (V^t_M >= α_lo σ(x_t)) and ``increment``
-    (V^{t+1}_M - V^t_M <= Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖²), with Γ_V, Γ^γ_V."""
+    (V^{t+1}_M - V^t_M <= Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖²), with Γ_V, Γ^γ_V.
+
+    Attributes
+    ----------
+    lower, increment : the :class:`Margins` of the two claims.
+    Gamma_V, Gamma_V_gamma : the coefficients Γ_V and Γ^γ_V.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> lemma1 = checks.lemma1_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar)
+    >>> lemma1.lower.holds(), lemma1.increment.holds(), bool(lemma1.Gamma_V < 0)
+    (True, True, True)
+    """
 
     lower: Margins
     increment: Margins
@@ -159,6 +191,34 @@ def value_bound_margins(traj, M, alpha_hi, gamma_bar) -> Margins:
     Certified constants (:func:`orrc.certify.lq_constants`) satisfy it for every x and W;
     sampled estimates (:func:`orrc.certify.sampled_constants`) are lower bounds on the true
     constants, and a negative margin here shows that an estimate is too small.
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 1 (``PreviewRHC``) that recorded V_M at every step.
+    M : the controller's horizon.
+    alpha_hi, gamma_bar : the constants ᾱ and γ̄ to check.
+
+    Returns
+    -------
+    Margins
+        margins for t = 0..T-1; ``holds()`` says whether all are non-negative up to rounding.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory has failed steps or no V_M, M does not match its controller, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> checks.value_bound_margins(traj, 8, k.alpha_hi, k.gamma_bar).holds()
+    True
     """
     traj, M, e = _trajectory(traj, M)
     alpha_hi = as_float("alpha_hi", alpha_hi, minimum=0.0, strict_min=True)
@@ -178,6 +238,35 @@ def lemma1_margins(traj, M, alpha_lo, alpha_hi, gamma_bar) -> Lemma1Margins:
       t = 0..T-2, with Γ_V, Γ^γ_V of :func:`orrc.theory.Gamma_V` / ``Gamma_V_gamma``.
 
     Lemma 1 holds for every M >= 2 (Γ_V may be positive below the horizon threshold).
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 1 (``PreviewRHC``) that recorded V_M at every step.
+    M : the controller's horizon (>= 2).
+    alpha_lo, alpha_hi, gamma_bar : the constants α_lo, ᾱ, γ̄.
+
+    Returns
+    -------
+    Lemma1Margins
+        ``lower`` (T margins), ``increment`` (T - 1 margins), Γ_V and Γ^γ_V.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory has failed steps or no V_M, M does not match its controller, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> lemma1 = checks.lemma1_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar)
+    >>> lemma1.lower.margin.shape, lemma1.increment.margin.shape
+    ((50,), (49,))
     """
     traj, M, e = _trajectory(traj, M)
     GV = theory.Gamma_V(M, alpha_lo, alpha_hi)
@@ -202,6 +291,37 @@ def lemma2_margins(traj, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> Margins:
         bound_t = ᾱ a^H σ(x_t) + Σ_{j=t}^{t+H+M-2} M_{w,j} ‖w_j‖²   (:func:`orrc.theory.lemma2_bound`).
 
     Needs M above the horizon threshold, a in [min_decay_rate, 1), M <= H < T.
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 1 (``PreviewRHC``) that recorded V_M at every step.
+    M : the controller's horizon, above the threshold.
+    H : the look-ahead, M <= H < T.
+    a : the decay rate, in [min_decay_rate, 1).
+    alpha_lo, alpha_hi, gamma_bar : the constants α_lo, ᾱ, γ̄.
+
+    Returns
+    -------
+    Margins
+        margins for the anchors t = 0..T-1-H.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory has failed steps or no V_M, M does not match its controller, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> lemma2 = checks.lemma2_margins(traj, 8, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar)
+    >>> lemma2.margin.shape, lemma2.holds()
+    ((42,), True)
     """
     traj, M, e = _trajectory(traj, M)
     H = as_int("H", H, minimum=1)
@@ -233,6 +353,37 @@ def theorem1_margin(traj, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> Margins
     with C the explicit constant of :func:`orrc.theory.theorem1_constant` (it depends on
     σ(x_0), the first M and the last M-2 previewed disturbances). Needs γ >= γ_c.
     ``t`` holds T' and ``actual`` the running R^p_{T'}(γ).
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 1 (``PreviewRHC``) that recorded V_M at every step.
+    M : the controller's horizon, above the threshold.
+    a : the decay rate, in [min_decay_rate, 1).
+    alpha_lo, alpha_hi, gamma_bar : the constants α_lo, ᾱ, γ̄.
+    gamma : the level, γ >= γ_c.
+
+    Returns
+    -------
+    Margins
+        margins for T' = 1..T.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory has failed steps or no V_M, M does not match its controller, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> theorem1 = checks.theorem1_margin(traj, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar, k.gamma_c)
+    >>> theorem1.margin.shape, theorem1.holds()
+    ((50,), True)
     """
     traj, M, e = _trajectory(traj, M)
     # the checks of theory.theorem1_constant (threshold, a, gamma >= gamma_c), b and γ_c once

@@ -42,14 +42,43 @@ from .._validate import OrrcValueError
 
 @dataclass(slots=True)
 class Observation:
-    """The information available at step t.
+    """The information available at step t: what the paper's information pattern allows a controller.
 
+    Attributes
+    ----------
     t : int
     x : (n,) the current state x_t (read-only)
     w_past : (n,) or None, the disturbance w_{t-1} that has just acted (None at t=0)
     w_preview : (preview_w, n) the disturbances w_t..w_{t+M_w-1} (read-only)
     cost_params : (preview_c, n_params) parameters of c_t..c_{t+M_c-1}, or None when
         the problem's cost is time-invariant (the controller's own cost applies)
+
+    Examples
+    --------
+    What the simulator hands a controller at t = 0 of a run with one step of preview:
+
+    >>> import numpy as np
+    >>> import orrc
+    >>> obs = orrc.Observation(t=0, x=np.array([1.0, 0.0]), w_past=None,
+    ...                        w_preview=np.array([[0.1, 0.0]]), cost_params=None)
+    >>> obs.w_preview.shape
+    (1, 2)
+
+    A controller reads it in :meth:`Controller.control`:
+
+    >>> import numpy as np
+    >>> import orrc
+    >>> class Proportional(orrc.Controller):
+    ...     # u_t = -k x_t[0]: no preview of w or of the costs
+    ...     preview_w = preview_c = 0
+    ...     def __init__(self, k):
+    ...         self.k = k
+    ...     def control(self, obs):
+    ...         return orrc.Decision(u=np.array([-self.k * obs.x[0]]))
+    >>> ex = orrc.examples.scalar_unstable(A=2.0, B=1.0)
+    >>> traj = orrc.simulate(ex.system, Proportional(1.5), ex.x0, np.zeros((10, 1)), T=10, costs=ex.cost)
+    >>> traj.x[:4, 0]   # x+ = (2 - 1.5) x
+    array([1.   , 0.5  , 0.25 , 0.125])
     """
 
     t: int
@@ -72,6 +101,21 @@ class Decision:
     nothing was solved). ``value_deferred=True`` says that this step's V_M will come from
     :meth:`Controller.values_batch` after the run (``value`` is then None). :func:`orrc.simulate`
     records all of it in the :class:`~orrc.Trajectory` and warns once per run when some step failed.
+
+    Parameters
+    ----------
+    u : (m,) the input u_t.
+    value : V_M of the problem solved at this step, or None.
+    success, status, iterations, solve_time, fallback, solver : the solver's report (see above).
+    value_deferred : True when V_M comes from :meth:`Controller.values_batch` after the run.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> d = orrc.Decision(u=np.array([0.5]))
+    >>> d.u, d.success, d.value
+    (array([0.5]), True, None)
     """
 
     u: np.ndarray
@@ -87,7 +131,26 @@ class Decision:
 
 class Controller:
     """Base class. Subclasses set ``preview_w``, ``preview_c`` (and ``cost`` when they
-    optimise one, ``system`` when they hold a model) and implement :meth:`control`."""
+    optimise one, ``system`` when they hold a model) and implement :meth:`control`.
+
+    Examples
+    --------
+    A controller of one's own: declare the preview, return a :class:`Decision`.
+
+    >>> import numpy as np
+    >>> import orrc
+    >>> class Proportional(orrc.Controller):
+    ...     # u_t = -k x_t[0]: no preview of w or of the costs
+    ...     preview_w = preview_c = 0
+    ...     def __init__(self, k):
+    ...         self.k = k
+    ...     def control(self, obs):
+    ...         return orrc.Decision(u=np.array([-self.k * obs.x[0]]))
+    >>> ex = orrc.examples.scalar_unstable(A=2.0, B=1.0)
+    >>> traj = orrc.simulate(ex.system, Proportional(1.5), ex.x0, np.zeros((10, 1)), T=10, costs=ex.cost)
+    >>> traj.x[:4, 0]   # x+ = (2 - 1.5) x
+    array([1.   , 0.5  , 0.25 , 0.125])
+    """
 
     preview_w: int = 0
     preview_c: int = 0

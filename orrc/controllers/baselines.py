@@ -26,6 +26,22 @@ class LQR(Controller):
     ``control.dlqr`` solves the discrete algebraic Riccati equation. For a
     :class:`~orrc.NonlinearSystem` the gain of its linearisation at the origin is used.
     No preview: it never sees w or future costs.
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem` (or a :class:`~orrc.NonlinearSystem`, linearised at 0).
+    cost : the :class:`~orrc.QuadraticCost` (Q, R).
+
+    Examples
+    --------
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> lqr = orrc.LQR(di.system, di.cost)
+    >>> lqr.K.round(4)
+    array([[2.7623, 2.5075]])
+    >>> print(f"{orrc.simulate(di.system, lqr, di.x0, w, T=50).costs.sum():.4f}")
+    10.5812
     """
 
     name = "LQR"
@@ -47,7 +63,22 @@ class LQR(Controller):
 
 
 class ZeroInput(Controller):
-    """u_t = 0 (the uncontrolled system)."""
+    """u_t = 0 (the uncontrolled system).
+
+    Parameters
+    ----------
+    m : the number of inputs.
+    cost : the stage cost to record along the run (or pass ``costs=`` to :func:`orrc.simulate`).
+
+    Examples
+    --------
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> traj = orrc.simulate(di.system, orrc.ZeroInput(1, di.cost), di.x0, w, T=50)
+    >>> print(f"{traj.costs.sum():.4f}", float(abs(traj.u).max()))
+    61.6160 0.0
+    """
 
     name = "zero input"
 
@@ -72,6 +103,24 @@ class Clairvoyant(Controller):
     A failed solve (retried once from a cold start) is one failure, at t = 0: that step is
     marked ``success=False`` with its fallback (the solver's last iterate, played for the whole
     run); the later steps solve nothing and are not failures. :func:`orrc.simulate` warns once.
+
+    Parameters
+    ----------
+    system, cost : the model and the stage-cost family.
+    T : the horizon it is built and simulated for.
+    input_bounds : (lo, hi), the set U.
+    solver_options : options for the CasADi path.
+
+    Examples
+    --------
+    The reference of the dynamic regret:
+
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> best = orrc.simulate(di.system, orrc.Clairvoyant(di.system, di.cost, T=50), di.x0, w, T=50)
+    >>> print(f"{best.costs.sum():.4f}")
+    9.6894
     """
 
     name = "clairvoyant optimum"

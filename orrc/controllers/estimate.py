@@ -93,6 +93,25 @@ class EstimateThenControl(Controller):
     ``Trajectory.info`` (:meth:`record`) holds ``phase`` (T,) ("estimate" or "control"), ``theta_hat``,
     ``theta_error`` (None without ``theta_true``), ``values`` (T,) V_M(x_t; θ̂) (NaN in the
     estimation phase), ``N`` and ``estimate`` (the estimator's result).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When N is too short for the estimator, the model and cost do not match, or an option is
+        unknown.
+
+    Examples
+    --------
+    The double integrator with (A, B) unknown: 10 exciting steps, then Algorithm 1 on the estimate.
+
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> model = orrc.ParametricSystem.linear(2, 1)
+    >>> etc = orrc.EstimateThenControl(model, di.cost, M=10, N=10)
+    >>> traj = orrc.simulate(di.system, etc, di.x0, w, T=50)
+    >>> [str(p) for p in traj.info["phase"][[0, 9, 10]]]
+    ['estimate', 'estimate', 'control']
     """
 
     name = "estimate then control"

@@ -77,6 +77,25 @@ class DisturbanceAction(Controller):
     The disturbance-action policy class of Agarwal et al. (2019), Definition 4.1; a GPC frozen
     at its learned M. w_{t−i} is recovered from the observed states and applied inputs; before
     t = i it is zero (the run starts at t = 0). ``K`` defaults to the LQR gain.
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    cost : its :class:`~orrc.QuadraticCost`.
+    M : (H, m, n) the fixed M_1..M_H.
+    K : the stabilising gain (default: the LQR gain).
+
+    Examples
+    --------
+    With M = 0 it is the LQR law:
+
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> policy = orrc.DisturbanceAction(di.system, di.cost, np.zeros((3, 1, 2)))
+    >>> print(f"{orrc.simulate(di.system, policy, di.x0, w, T=50).costs.sum():.4f}")
+    10.5812
     """
 
     name = "disturbance action"
@@ -159,6 +178,16 @@ class GPC(DisturbanceAction):
 
     ``record()`` gives ``M`` (T, H, m, n), the policy played at each step, ``w`` (T, n), the
     recovered disturbances (w_{t−1} at row t; row 0 is zero) and ``lr`` (T,), the steps taken.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> gpc = orrc.GPC(di.system, di.cost, H=5)
+    >>> traj = orrc.simulate(di.system, gpc, di.x0, w, T=50)
+    >>> gpc.M.shape   # the learned M_1..M_H
+    (5, 1, 2)
     """
 
     name = "GPC"

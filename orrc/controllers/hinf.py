@@ -98,6 +98,20 @@ class HInfinity(Controller):
     (:func:`orrc.solvers.game.stationary_game`); the closed loop's H∞ norm (the check of the
     tests and of :func:`orrc.certify.worst_case_attenuation_limit`) is python-control's
     ``system_norm``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``gamma`` is at or below the optimal level, or the system is not stabilisable.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> hinf = orrc.HInfinity(di.system, di.cost, preview=3)
+    >>> print(f"{hinf.gamma:.2f}", f"{orrc.simulate(di.system, hinf, di.x0, w, T=50).costs.sum():.4f}")
+    29.95 36.8312
     """
 
     name = "H∞"

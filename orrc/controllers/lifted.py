@@ -39,6 +39,33 @@ class LiftedRHC(Controller):
     with the cost c(C z, u): the exact LQ path for a quadratic cost without bounds, CasADi +
     IPOPT otherwise. ``model``: an :class:`orrc.estimation.EDMDModel` (anything with ``system``,
     ``lift``, ``C`` and ``E``). The cost is time invariant (the paper's Section 5.2 assumes it).
+
+    Parameters
+    ----------
+    model : an :class:`orrc.estimation.EDMDModel` (from :func:`orrc.estimation.edmd`).
+    cost : the stage cost c(x, u) on the original state.
+    M : the preview horizon.
+    input_bounds : (lo, hi), the set U.
+    solver_options : options for the CasADi path.
+
+    Examples
+    --------
+    A linear dictionary fitted on 40 steps of the double integrator:
+
+    >>> import numpy as np
+    >>> from orrc.estimation import edmd, polynomial_dictionary
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> rng = np.random.default_rng(0)
+    >>> U, W = rng.standard_normal((40, 1)), 0.1 * rng.standard_normal((40, 2))
+    >>> X = np.zeros((41, 2))
+    >>> for k in range(40):
+    ...     X[k + 1] = di.system.step(X[k], U[k], W[k])
+    >>> model = edmd(X, U, polynomial_dictionary(2, 1), W=W)
+    >>> traj = orrc.simulate(di.system, orrc.LiftedRHC(model, di.cost, M=10), di.x0, w, T=50)
+    >>> traj.x.shape
+    (51, 2)
     """
 
     name = "preview RHC on the lifted model"

@@ -85,6 +85,32 @@ class PreviewRHC(DropsBuffers, Controller):
     Size: the horizon's cost is estimated first (the exact LQ law is O(M³n²) to build and
     O(M²n²) to store; the CasADi problem grows with M(n+m)) and refused above the limits of
     ``orrc.config`` with an :class:`~orrc.OrrcValueError` stating the estimate.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When an argument is out of range (e.g. M < 1), the bounds do not match the system, or the
+        exact law at this horizon would exceed the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    On a linear system with a quadratic cost the law is exact (the Riccati recursion):
+
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> rhc = orrc.PreviewRHC(di.system, di.cost, M=10)
+    >>> traj = orrc.simulate(di.system, rhc, di.x0, w, T=50)
+    >>> print(f"{traj.costs.sum():.4f}", traj.solver_counts)
+    9.9116 {'lq': 50}
+
+    On the nonlinear pendulum each step is an NLP solved by SQP, warm-started from the last plan:
+
+    >>> ex = orrc.examples.inverted_pendulum()
+    >>> rhc = orrc.PreviewRHC(ex.system, ex.cost, M=10, input_bounds=ex.input_bounds)
+    >>> traj = orrc.simulate(ex.system, rhc, ex.x0, orrc.disturbances.zero(30, 2), T=20)
+    >>> traj.solver_counts, bool(traj.success.all())
+    ({'sqp': 20}, True)
     """
 
     name = "preview RHC"

@@ -101,11 +101,15 @@ def _solve_sdp(c, T: int, m: int, n: int):
 class RegretOptimal(Controller):
     """The causal controller with the smallest worst-case dynamic regret over a horizon of T steps.
 
-    Parameters: ``system`` (a :class:`~orrc.LinearSystem`), ``cost`` (a :class:`~orrc.QuadraticCost`),
-    ``T`` (the horizon), ``method``: "structured" (default; Arveson's distance formula and Parrott's
-    completion on a causal factor of S, :mod:`orrc.solvers.regret`; refused with the estimate beyond
-    the package's size limits, ``orrc.config``) or "sdp" (the semidefinite program with Clarabel, the
-    cross-check; T(m + n) <= :data:`MAX_LMI_DIM`, else a clear error with the limit).
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    cost : a :class:`~orrc.QuadraticCost`.
+    T : the horizon.
+    method : "structured" (default; Arveson's distance formula and Parrott's completion on a causal
+        factor of S, :mod:`orrc.solvers.regret`; refused with the estimate beyond the package's size
+        limits, ``orrc.config``) or "sdp" (the semidefinite program with Clarabel, the cross-check;
+        T(m + n) <= :data:`MAX_LMI_DIM`, else a clear error with the limit).
 
     Attributes
     ----------
@@ -120,6 +124,25 @@ class RegretOptimal(Controller):
     As a controller (in :func:`orrc.simulate`) it plays u_t = −K x_t + Σ_{s<t} Φ_{ts} w_s with w_s recovered from
     the observed states and applied inputs (x_{s+1} − A x_s − B u_s). It is designed from x_0 = 0 (the
     setting of the regret-optimal papers) and for t < T: another start or a longer run is refused.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the system is not linear, the cost not quadratic, T out of range, or the problem beyond
+        the method's size limit.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
+    >>> ro = orrc.RegretOptimal(di.system, di.cost, T=20)
+    >>> ro.Phi.shape
+    (20, 40)
+    >>> traj = orrc.simulate(di.system, ro, np.zeros(2), w, T=20)
+    >>> print(f"{traj.costs.sum():.4f}")
+    0.7876
     """
 
     name = "regret-optimal"

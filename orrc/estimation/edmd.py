@@ -51,6 +51,26 @@ class Dictionary:
     The dictionary must contain the state: x = C ψ(x) for a linear projection C, found exactly
     when x appears among the features (else by least squares on probe points, to 1e-9 relative).
     A dictionary without the state raises :class:`~orrc.OrrcValueError`.
+
+    Parameters
+    ----------
+    psi : ψ(x) in CasADi operations, returning the K features of a column vector of length n.
+    n : the state dimension.
+    name : a label.
+    labels : the K features' names.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ψ does not contain the state or does not evaluate to finite numbers.
+
+    Examples
+    --------
+    >>> import casadi as ca
+    >>> from orrc import estimation
+    >>> d = estimation.Dictionary(lambda x: ca.vertcat(x, ca.sin(x[0])), n=2)
+    >>> d.K
+    3
     """
 
     def __init__(self, psi: Callable, n: int, name: str = "dictionary", labels=None):
@@ -112,6 +132,29 @@ def polynomial_dictionary(n: int, degree: int, include_constant: bool = False) -
     """All monomials of x ∈ R^n of total degree 1..``degree`` (x first), and 1 if ``include_constant``.
 
     K = C(n + degree, degree) - 1 (+1) features; the size is estimated first and refused above ``orrc.config``'s limits.
+
+    Parameters
+    ----------
+    n : the state dimension.
+    degree : the largest total degree, >= 1.
+    include_constant : add the feature 1.
+
+    Returns
+    -------
+    Dictionary
+        K = C(n + degree, degree) - 1 (+1) features.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When n or degree is out of range, or K exceeds the size limits.
+
+    Examples
+    --------
+    >>> from orrc import estimation
+    >>> d = estimation.polynomial_dictionary(2, 2)
+    >>> d.K, d.labels
+    (5, ['x1', 'x2', 'x1^2', 'x1 x2', 'x2^2'])
     """
     n = as_int("n", n, minimum=1)
     degree = as_int("degree", degree, minimum=1)
@@ -144,6 +187,29 @@ def rbf_dictionary(centers, width: float, include_constant: bool = False) -> Dic
     """x, then Gaussian radial basis functions exp(-‖x - c_j‖² / (2 width²)) for each centre c_j.
 
     ``centers`` (k, n); ``width`` > 0. K = n + k (+1) features; the size is estimated first and refused above ``orrc.config``'s limits.
+
+    Parameters
+    ----------
+    centers : (k, n) the centres c_j.
+    width : the width, > 0.
+    include_constant : add the feature 1.
+
+    Returns
+    -------
+    Dictionary
+        K = n + k (+1) features.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the centres are malformed, the width not positive, or K exceeds the size limits.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc import estimation
+    >>> estimation.rbf_dictionary(np.zeros((3, 2)), width=1.0).K
+    5
     """
     centers = as_array("centers", centers)
     if centers.ndim != 2 or centers.shape[0] < 1:
@@ -172,6 +238,21 @@ class EDMDModel(Estimate):
 
     ``theta`` is vec([A B E]) row by row; ``rank``/``rank_needed`` those of the regression matrix
     [ψ(x_k); u_k; w_k]; ``residual`` the RMS one-step residual of x (not of z).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc import estimation
+    >>> di = orrc.examples.double_integrator()
+    >>> U = estimation.prbs(40, 1, seed=0)                       # 40 exciting inputs
+    >>> W = orrc.disturbances.uniform_ball(40, 2, 0.01, seed=1)
+    >>> X = np.zeros((41, 2))
+    >>> for k in range(40):
+    ...     X[k + 1] = di.system.step(X[k], U[k], W[k])
+    >>> model = estimation.edmd(X, U, estimation.polynomial_dictionary(2, 1), W=W)
+    >>> model.A.shape, model.B.shape, model.E.shape, model.C.shape
+    ((2, 2), (2, 1), (2, 2), (2, 2))
     """
 
     A: np.ndarray = None
@@ -249,6 +330,31 @@ def edmd(X, U, dictionary: Dictionary, W=None, ridge: float = 1e-8) -> EDMDModel
 
     The ridge problem is solved as one least-squares problem on the stacked matrix
     [Φ; √(N ridge) I] (no normal equations, so its conditioning is that of Φ, not its square).
+
+    Returns
+    -------
+    EDMDModel
+        A (K, K), B (K, m), E (K, n), C (n, K), the lift ψ and the fit's diagnostics.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the data or the dictionary are malformed, or the regression exceeds the size limits.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc import estimation
+    >>> di = orrc.examples.double_integrator()
+    >>> U = estimation.prbs(40, 1, seed=0)                       # 40 exciting inputs
+    >>> W = orrc.disturbances.uniform_ball(40, 2, 0.01, seed=1)
+    >>> X = np.zeros((41, 2))
+    >>> for k in range(40):
+    ...     X[k + 1] = di.system.step(X[k], U[k], W[k])
+    >>> model = estimation.edmd(X, U, estimation.polynomial_dictionary(2, 2), W=W)
+    >>> model.A.shape
+    (5, 5)
     """
     if not isinstance(dictionary, Dictionary):
         raise OrrcValueError(f"dictionary must be an orrc.estimation.Dictionary (e.g. polynomial_dictionary); "
@@ -283,7 +389,28 @@ def edmd(X, U, dictionary: Dictionary, W=None, ridge: float = 1e-8) -> EDMDModel
 
 
 class EDMD:
-    """EDMD as the estimator of Algorithm 2: ``EDMD(dictionary, ridge).fit(X, U, W)`` = :func:`edmd`."""
+    """EDMD as the estimator of Algorithm 2: ``EDMD(dictionary, ridge).fit(X, U, W)`` = :func:`edmd`.
+
+    Parameters
+    ----------
+    dictionary : the :class:`Dictionary`.
+    ridge : the ridge weight (>= 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc import estimation
+    >>> di = orrc.examples.double_integrator()
+    >>> U = estimation.prbs(40, 1, seed=0)                       # 40 exciting inputs
+    >>> W = orrc.disturbances.uniform_ball(40, 2, 0.01, seed=1)
+    >>> X = np.zeros((41, 2))
+    >>> for k in range(40):
+    ...     X[k + 1] = di.system.step(X[k], U[k], W[k])
+    >>> model = estimation.EDMD(estimation.polynomial_dictionary(2, 1)).fit(X, U, W)
+    >>> type(model).__name__
+    'EDMDModel'
+    """
 
     def __init__(self, dictionary: Dictionary, ridge: float = 1e-8):
         if not isinstance(dictionary, Dictionary):
@@ -332,6 +459,38 @@ def prediction_error(model, X, U, W=None, horizon: int = 20) -> float:
     x_k and uses the recorded inputs u_k..u_{k+h-1} (and disturbances, when W is given; else
     w = 0). Data: one trajectory (N+1, n) with U (N, m), or lists of them. On fresh data (not
     used for fitting) this is the generalisation error, EDMD's counterpart of g(N).
+
+    Parameters
+    ----------
+    model : the model to evaluate (see above).
+    X, U, W : the data; W None: predictions with w = 0.
+    horizon : the prediction length h >= 1.
+
+    Returns
+    -------
+    float
+        the RMS h-step prediction error.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the data are malformed or shorter than the horizon.
+
+    Examples
+    --------
+    The true system predicts its own data exactly:
+
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc import estimation
+    >>> di = orrc.examples.double_integrator()
+    >>> U = estimation.prbs(40, 1, seed=0)                       # 40 exciting inputs
+    >>> W = orrc.disturbances.uniform_ball(40, 2, 0.01, seed=1)
+    >>> X = np.zeros((41, 2))
+    >>> for k in range(40):
+    ...     X[k + 1] = di.system.step(X[k], U[k], W[k])
+    >>> bool(estimation.prediction_error(di.system, X, U, W, horizon=5) < 1e-12)
+    True
     """
     horizon = as_int("horizon", horizon, minimum=1)
     Xs = X if isinstance(X, (list, tuple)) else [X]

@@ -40,7 +40,34 @@ def _dims(N, m, amplitude, terms: int = 1):
 
 
 def gaussian(N: int, m: int, amplitude: float = 1.0, std: float | None = None, seed=None) -> np.ndarray:
-    """u_k ~ N(0, std² I) i.i.d., clipped to [-amplitude, amplitude] (default std = amplitude/2)."""
+    """u_k ~ N(0, std² I) i.i.d., clipped to [-amplitude, amplitude] (default std = amplitude/2).
+
+    Parameters
+    ----------
+    N : the number of steps.
+    m : the number of inputs.
+    amplitude : the clipping bound.
+    std : the standard deviation (default amplitude / 2).
+    seed : a seed.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N, m), row k is u_k, with max |u| <= amplitude.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When N or m is not an integer >= 1, or a size is out of range.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc import estimation
+    >>> u = estimation.gaussian(100, 1, amplitude=1.0, seed=0)
+    >>> u.shape, bool(np.abs(u).max() <= 1.0)
+    ((100, 1), True)
+    """
     N, m, amplitude = _dims(N, m, amplitude)
     std = amplitude / 2 if std is None else as_float("std", std, minimum=0.0, strict_min=True)
     return np.clip(std * _rng(seed).standard_normal((N, m)), -amplitude, amplitude)
@@ -52,6 +79,32 @@ def prbs(N: int, m: int, amplitude: float = 1.0, hold: int = 1, seed=None) -> np
     The register length b is the smallest with 2^b - 1 >= ceil(N/hold) (at least 5); the
     initial register state comes from ``seed`` (never all zeros) and input i starts at a random
     shift of the sequence. Each bit is held for ``hold`` steps.
+
+    Parameters
+    ----------
+    N : the number of steps.
+    m : the number of inputs.
+    amplitude : the level ±amplitude.
+    hold : steps each bit is held.
+    seed : a seed.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N, m), row k is u_k, with max |u| <= amplitude.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When N or m is not an integer >= 1, or a size is out of range.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc import estimation
+    >>> u = estimation.prbs(8, 1, amplitude=2.0, seed=0)
+    >>> sorted(set(u.ravel().tolist()))
+    [-2.0, 2.0]
     """
     N, hold = as_int("N", N, minimum=1), as_int("hold", hold, minimum=1)
     bits_needed = math.ceil(N / hold)
@@ -78,7 +131,34 @@ def prbs(N: int, m: int, amplitude: float = 1.0, hold: int = 1, seed=None) -> np
 
 def multisine(N: int, m: int, amplitude: float = 1.0, n_freqs: int = 8, seed=None) -> np.ndarray:
     """u_{k,i} = s Σ_j sin(2π f_j k + φ_{ij}): ``n_freqs`` frequencies f_j = j/(2 n_freqs + 1)
-    (j = 1..n_freqs, spread over (0, 1/2)), random phases φ (seeded), s such that max |u| = amplitude."""
+    (j = 1..n_freqs, spread over (0, 1/2)), random phases φ (seeded), s such that max |u| = amplitude.
+
+    Parameters
+    ----------
+    N : the number of steps.
+    m : the number of inputs.
+    amplitude : the peak max |u|.
+    n_freqs : the number of frequencies.
+    seed : a seed for the phases.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N, m), row k is u_k, with max |u| <= amplitude.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When N or m is not an integer >= 1, or a size is out of range.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc import estimation
+    >>> u = estimation.multisine(50, 2, amplitude=0.5, seed=0)
+    >>> u.shape, round(float(np.abs(u).max()), 6)
+    ((50, 2), 0.5)
+    """
     n_freqs = as_int("n_freqs", n_freqs, minimum=1)
     N, m, amplitude = _dims(N, m, amplitude, terms=n_freqs)
     rng = _rng(seed)

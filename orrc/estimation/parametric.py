@@ -31,6 +31,33 @@ def least_squares_parametric(model: ParametricSystem, X, U, W=None, true=None,
         the least-squares estimate with w in the residual).
     true : optional true θ (p,): the estimate then reports ``error`` = ‖θ̂ - θ‖₂.
     rank_deficient : "raise" (default) or "warn", as in :func:`~orrc.estimation.least_squares_linear`.
+
+    Returns
+    -------
+    Estimate
+        θ̂ (p,), the rank and conditioning of the regression and, with ``true``, ``error``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the model is not affine in θ, the data are malformed, or (with ``rank_deficient="raise"``)
+        the data do not determine θ.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc import estimation
+    >>> di = orrc.examples.double_integrator()
+    >>> U = estimation.prbs(40, 1, seed=0)                       # 40 exciting inputs
+    >>> W = orrc.disturbances.uniform_ball(40, 2, 0.01, seed=1)
+    >>> X = np.zeros((41, 2))
+    >>> for k in range(40):
+    ...     X[k + 1] = di.system.step(X[k], U[k], W[k])
+    >>> model = orrc.ParametricSystem.linear(2, 1)
+    >>> est = estimation.least_squares_parametric(model, X, U, W)
+    >>> bool(np.allclose(est.theta, model.pack(di.system.A, di.system.B)))
+    True
     """
     if not isinstance(model, ParametricSystem):
         raise OrrcValueError(f"model must be an orrc.ParametricSystem; got {type(model).__name__}")

@@ -55,6 +55,29 @@ def above_threshold(M, alpha_lo, alpha_hi) -> bool:
     """True when M > ᾱ²/α_lo² + 1 (the horizon condition of Lemma 2 and Theorem 1).
 
     Evaluated as (ᾱ/α_lo)² < M - 1, the same comparison as Γ_V < 0 in Lemma 1.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+
+    Returns
+    -------
+    bool
+        whether M > ᾱ²/α_lo² + 1.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> theory.above_threshold(6, alpha_lo=1.0, alpha_hi=2.0)
+    True
     """
     M = _M(M)
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
@@ -68,6 +91,28 @@ def horizon_threshold(alpha_lo, alpha_hi) -> float:
 
     It is the M at which Lemma 1's Γ_V = ᾱ²/(α_lo(M-1)) - α_lo changes sign: above it
     V_M decreases along the closed loop when there is no disturbance.
+
+    Parameters
+    ----------
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+
+    Returns
+    -------
+    float
+        ᾱ²/α_lo² + 1.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> theory.horizon_threshold(alpha_lo=1.0, alpha_hi=2.0)
+    5.0
     """
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
     return (alpha_hi / alpha_lo) ** 2 + 1.0
@@ -79,6 +124,29 @@ def Gamma_V(M, alpha_lo, alpha_hi) -> float:
 
     The coefficient of σ(x_t) in V^{t+1}_M - V^t_M <= Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖².
     Negative exactly when M > ᾱ²/α_lo² + 1 (:func:`horizon_threshold`). Needs M >= 2.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+
+    Returns
+    -------
+    float
+        Γ_V (negative above the threshold).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.Gamma_V(6, alpha_lo=1.0, alpha_hi=2.0), 6))
+    -0.2
     """
     M = _M(M)
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
@@ -91,6 +159,30 @@ def Gamma_V_gamma(M, alpha_lo, alpha_hi, gamma_bar) -> float:
 
     The coefficient of the previewed disturbance energy Σ_{k=t}^{t+M-1} ‖w_k‖² in the
     increment bound of Lemma 1. Needs M >= 2.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    gamma_bar : γ̄ >= 0, the disturbance constant of Lemma 1.
+
+    Returns
+    -------
+    float
+        Γ^γ_V.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.Gamma_V_gamma(6, alpha_lo=1.0, alpha_hi=2.0, gamma_bar=1.0), 6))
+    1.4
     """
     M = _M(M)
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
@@ -110,6 +202,29 @@ def min_decay_rate(M, alpha_lo, alpha_hi) -> float:
     V^{t+1} <= a V^t + b Σ‖w‖²) also goes through at ε̃ = α_lo - ᾱ²/((M-1)α_lo), so
     ``orrc`` admits a = a_min itself. Always 0 < a_min < 1 above the threshold.
     Raises when M is not above :func:`horizon_threshold`.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+
+    Returns
+    -------
+    float
+        a_min, in (0, 1).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.min_decay_rate(6, alpha_lo=1.0, alpha_hi=2.0), 6))
+    0.9
     """
     M = _M(M)
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
@@ -120,7 +235,31 @@ def min_decay_rate(M, alpha_lo, alpha_hi) -> float:
 @finite_result
 def decay_b(alpha_lo, alpha_hi, gamma_bar) -> float:
     """b = γ̄ (α_lo/ᾱ + 1)  (Lemma 2), the input gain of the recursion
-    V^{t+1}_M <= a V^t_M + b Σ_{k=t}^{t+M-1} ‖w_k‖² (Appendix B)."""
+    V^{t+1}_M <= a V^t_M + b Σ_{k=t}^{t+M-1} ‖w_k‖² (Appendix B).
+
+    Parameters
+    ----------
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    gamma_bar : γ̄ >= 0, the disturbance constant of Lemma 1.
+
+    Returns
+    -------
+    float
+        b.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> theory.decay_b(alpha_lo=1.0, alpha_hi=2.0, gamma_bar=1.0)
+    1.5
+    """
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
     gamma_bar = _gamma_bar(gamma_bar)
     return _b(alpha_lo, alpha_hi, gamma_bar)
@@ -140,6 +279,32 @@ def lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, b) -> np.ndarray:
     validated (the coefficients do not depend on it; it sets M_λ = ᾱ in
     :func:`lemma2_bound`). The caller is responsible for a being admissible for the
     constants (see :func:`min_decay_rate`); here 0 < a < 1 is checked.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    H : the look-ahead H >= M.
+    a : the decay rate, in [the minimal decay rate, 1).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    gamma_bar : γ̄ >= 0, the disturbance constant of Lemma 1.
+    b : the input gain b of Lemma 2 (:func:`decay_b`).
+
+    Returns
+    -------
+    numpy.ndarray
+        (H + M - 1,) the coefficients M_{w,t+k}, k = 0..H+M-2.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> theory.lemma2_coefficients(M=6, H=6, a=0.9, alpha_hi=2.0, gamma_bar=1.0, b=1.5).shape
+    (11,)
     """
     M = _M(M)
     H = as_int("H", H, minimum=1)
@@ -166,17 +331,40 @@ def lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, b) -> np.ndarray:
 def lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> float:
     """The right-hand side of Lemma 2: c_{t+H} <= ᾱ a^H σ(x_t) + Σ_{j=t}^{t_H+M-2} M_{w,j} ‖w_j‖².
 
-    Parameters
-    ----------
-    sigma_t : σ(x_t) >= 0.
-    w_window : (H + M - 1, n) the disturbances w_t, ..., w_{t+H+M-2} (a 1-D array is read
-        as a scalar disturbance sequence).
-    M, H : horizon (above the threshold) and look-ahead H >= M.
-    a : decay rate in [min_decay_rate(M, α_lo, ᾱ), 1).
-
     The statement's M_λ e^{-λH} with M_λ = ᾱ, λ = -ln a is ᾱ a^H; the appendix's
     "M_λ = a^H ᾱ" would count a^H twice (see paper-summary.md), so the statement's
     reading is implemented. Coefficients: :func:`lemma2_coefficients`.
+
+    Parameters
+    ----------
+    sigma_t : σ(x_t) >= 0.
+    w_window : (H + M - 1, n) the disturbances w_t..w_{t+H+M-2} (a 1-D array is read as a scalar
+        disturbance sequence).
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    H : the look-ahead H >= M.
+    a : the decay rate, in [min_decay_rate(M, α_lo, ᾱ), 1).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    gamma_bar : γ̄ >= 0, the disturbance constant of Lemma 1.
+
+    Returns
+    -------
+    float
+        the bound on c_{t+H}.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> import numpy as np
+    >>> print(round(theory.lemma2_bound(1.0, np.zeros((11, 2)), M=6, H=6, a=0.9, alpha_lo=1.0,
+    ...                                  alpha_hi=2.0, gamma_bar=1.0), 6))
+    1.062882
     """
     M, a, alpha_lo, alpha_hi, gamma_bar = _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
     sigma_t = as_float("sigma_t", sigma_t, minimum=0.0)
@@ -202,6 +390,31 @@ def gamma_c(M, a, alpha_lo, alpha_hi, gamma_bar) -> float:
     [:func:`min_decay_rate`, 1), or when a constant is non-positive or α_lo > ᾱ.
     γ_c decreases as a decreases, so a = min_decay_rate gives the best γ_c; it is
     always > 2γ̄ (the remark after Theorem 1).
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    a : the decay rate, in [the minimal decay rate, 1).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    gamma_bar : γ̄ >= 0, the disturbance constant of Lemma 1.
+
+    Returns
+    -------
+    float
+        γ_c.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.gamma_c(6, a=0.9, alpha_lo=1.0, alpha_hi=2.0, gamma_bar=1.0), 6))
+    225.0
     """
     M, a, alpha_lo, alpha_hi, gamma_bar = _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)
     return _gamma_c(M, a, _b(alpha_lo, alpha_hi, gamma_bar))
@@ -255,6 +468,25 @@ def theorem1_constant(sigma0, w, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) 
     T : number of steps (T >= 1; the theorem states T >= M + 1, the bound holds for all T).
     M, a, alpha_lo, alpha_hi, gamma_bar : as in :func:`gamma_c` (M above the threshold).
     gamma : attenuation level, gamma >= gamma_c (else the theorem says nothing: raises).
+
+    Returns
+    -------
+    float
+        C (an array of the same shape when T is an array).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> import numpy as np
+    >>> print(round(theory.theorem1_constant(1.0, np.zeros((20, 2)), T=10, M=6, a=0.9, alpha_lo=1.0,
+    ...                                       alpha_hi=2.0, gamma_bar=1.0, gamma=250.0), 6))
+    13.026431
     """
     s = _theorem1_setting(sigma0, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)
     T, M = s.T, s.M
@@ -320,6 +552,28 @@ def gamma_tilde(alpha_lo, alpha_hi) -> float:
     It equals 1/(1 - min_decay_rate(M, α_lo, ᾱ)) at M = ⌈ᾱ²/α_lo²⌉ + 1, the choice of M
     behind the remark. It is undefined (division by zero) when ᾱ²/α_lo² is an integer
     (then that M sits exactly on the threshold): raises in that case.
+
+    Parameters
+    ----------
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+
+    Returns
+    -------
+    float
+        γ̃.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.gamma_tilde(alpha_lo=1.0, alpha_hi=2.5), 6))
+    23.333333
     """
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
     kappa = alpha_hi ** 2 / alpha_lo ** 2
@@ -339,6 +593,29 @@ def gamma_c_remark(alpha_lo, alpha_hi, gamma_bar) -> float:
     The paper says M and a can be chosen so that this value ⪆ γ_c >= 2γ̄. With
     M = ⌈ᾱ²/α_lo²⌉ + 1 and a = min_decay_rate, γ_c = b(⌈ᾱ²/α_lo²⌉ γ̃ + γ̃²), which is
     at most this value. Raises where :func:`gamma_tilde` does.
+
+    Parameters
+    ----------
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    gamma_bar : γ̄ >= 0, the disturbance constant of Lemma 1.
+
+    Returns
+    -------
+    float
+        the remark's level.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.gamma_c_remark(alpha_lo=1.0, alpha_hi=2.5, gamma_bar=1.0), 4))
+    1932.7778
     """
     alpha_lo, alpha_hi = _alphas(alpha_lo, alpha_hi)
     gamma_bar = _gamma_bar(gamma_bar)

@@ -82,6 +82,29 @@ def Gamma_WV(M, alpha_lo, alpha_hi_W) -> float:
 
     The coefficient of σ(x_t) in V^{t+1}_{W,M} - V^t_{W,M} <= Γ_{W,V} σ(x_t) + Γ^γ_{W,V} max‖w‖².
     Negative exactly when M > ᾱ_W²/α_lo² + 1 (:func:`horizon_threshold_W`). Needs M >= 2.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi_W : ᾱ_W >= α_lo, the constant of Appendix D: V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖².
+
+    Returns
+    -------
+    float
+        Γ_{W,V}.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.Gamma_WV(6, alpha_lo=1.0, alpha_hi_W=2.0), 6))
+    -0.2
     """
     M = _M(M)
     alpha_lo, alpha_hi_W = _constants_W(alpha_lo, alpha_hi_W)
@@ -94,6 +117,30 @@ def Gamma_WV_gamma(M, alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
 
     The coefficient of the LARGEST disturbance energy max_{w∈W} ‖w‖² in Lemma 6's increment
     bound (Lemma 1 has the previewed energy Σ_{k=t}^{t+M-1} ‖w_k‖² there). Needs M >= 2.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi_W : ᾱ_W >= α_lo, the constant of Appendix D: V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖².
+    gamma_bar_W : γ̄_W >= 0, the disturbance constant of Appendix D.
+
+    Returns
+    -------
+    float
+        Γ^γ_{W,V}.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.Gamma_WV_gamma(6, 1.0, 2.0, gamma_bar_W=1.0), 6))
+    1.4
     """
     M = _M(M)
     alpha_lo, alpha_hi_W, gamma_bar_W = _constants_W(alpha_lo, alpha_hi_W, gamma_bar_W)
@@ -102,7 +149,30 @@ def Gamma_WV_gamma(M, alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
 
 @finite_result
 def horizon_threshold_W(alpha_lo, alpha_hi_W) -> float:
-    """ᾱ_W²/α_lo² + 1: Theorem 3 holds for every integer M strictly above it (then Γ_{W,V} < 0)."""
+    """ᾱ_W²/α_lo² + 1: Theorem 3 holds for every integer M strictly above it (then Γ_{W,V} < 0).
+
+    Parameters
+    ----------
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi_W : ᾱ_W >= α_lo, the constant of Appendix D: V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖².
+
+    Returns
+    -------
+    float
+        ᾱ_W²/α_lo² + 1.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> theory.horizon_threshold_W(alpha_lo=1.0, alpha_hi_W=2.0)
+    5.0
+    """
     alpha_lo, alpha_hi_W = _constants_W(alpha_lo, alpha_hi_W)
     return (alpha_hi_W / alpha_lo) ** 2 + 1.0
 
@@ -115,6 +185,29 @@ def min_decay_rate_W(M, alpha_lo, alpha_hi_W) -> float:
     The theorem allows 1 > a >= 1 - ε̃/ᾱ_W with 0 < ε̃ < α_lo - ᾱ_W²/((M-1)α_lo); as for Theorem 1
     (:func:`orrc.theory.min_decay_rate`) the proof also goes through at the infimum, which is
     admitted. Raises when M is not above :func:`horizon_threshold_W`.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi_W : ᾱ_W >= α_lo, the constant of Appendix D: V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖².
+
+    Returns
+    -------
+    float
+        a_min.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.min_decay_rate_W(6, 1.0, 2.0), 6))
+    0.9
     """
     M = _M(M)
     alpha_lo, alpha_hi_W = _constants_W(alpha_lo, alpha_hi_W)
@@ -129,7 +222,31 @@ def min_decay_rate_W(M, alpha_lo, alpha_hi_W) -> float:
 @finite_result
 def decay_b_W(alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
     """b_W = γ̄_W (α_lo/ᾱ_W + 1), the input gain of the recursion V^{t+1}_{W,M} <= a V^t_{W,M} +
-    b_W max‖w‖² in the proof of Theorem 3 (the statement writes γ̄ for γ̄_W; the proof uses γ̄_W)."""
+    b_W max‖w‖² in the proof of Theorem 3 (the statement writes γ̄ for γ̄_W; the proof uses γ̄_W).
+
+    Parameters
+    ----------
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi_W : ᾱ_W >= α_lo, the constant of Appendix D: V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖².
+    gamma_bar_W : γ̄_W >= 0, the disturbance constant of Appendix D.
+
+    Returns
+    -------
+    float
+        b_W.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> theory.decay_b_W(1.0, 2.0, gamma_bar_W=1.0)
+    1.5
+    """
     alpha_lo, alpha_hi_W, gamma_bar_W = _constants_W(alpha_lo, alpha_hi_W, gamma_bar_W)
     return gamma_bar_W * (alpha_lo / alpha_hi_W + 1.0)
 
@@ -140,6 +257,31 @@ def gamma_c_W(M, a, alpha_lo, alpha_hi_W, gamma_bar_W) -> float:
 
     The level of Theorem 3: Σ_{t<T} c_t - γ T max‖w‖² = O(1) for every γ >= γ_{c,W}. Raises when M
     is not above :func:`horizon_threshold_W` or a is outside [:func:`min_decay_rate_W`, 1).
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    a : the decay rate, in [the minimal decay rate, 1).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi_W : ᾱ_W >= α_lo, the constant of Appendix D: V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖².
+    gamma_bar_W : γ̄_W >= 0, the disturbance constant of Appendix D.
+
+    Returns
+    -------
+    float
+        γ_{c,W}.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.gamma_c_W(6, 0.9, 1.0, 2.0, 1.0), 6))
+    15.0
     """
     M, a, alpha_lo, alpha_hi_W, gamma_bar_W = _theorem3_setting(M, a, alpha_lo, alpha_hi_W, gamma_bar_W)
     return gamma_bar_W * (alpha_lo / alpha_hi_W + 1.0) / (1.0 - a)
@@ -163,6 +305,36 @@ def theorem3_constant(sigma0, T, M, a, alpha_lo, alpha_hi_W, gamma_bar_W, w_max_
 
     Note that the guarantee charges T max‖w‖², the energy of the LARGEST possible disturbances,
     whatever the disturbances actually were. Raises when γ < γ_{c,W} (the theorem says nothing).
+
+    Parameters
+    ----------
+    sigma0 : σ(x_0) >= 0.
+    T : the number of steps.
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    a : the decay rate, in [the minimal decay rate, 1).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi_W : ᾱ_W >= α_lo, the constant of Appendix D: V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖².
+    gamma_bar_W : γ̄_W >= 0, the disturbance constant of Appendix D.
+    w_max_sq : max_{w∈W} ‖w‖².
+    gamma : the attenuation level γ (at least the certified level).
+
+    Returns
+    -------
+    float
+        C.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.theorem3_constant(1.0, T=10, M=6, a=0.9, alpha_lo=1.0, alpha_hi_W=2.0,
+    ...                                       gamma_bar_W=1.0, w_max_sq=0.01, gamma=20.0), 6))
+    11.614581
     """
     M, a, alpha_lo, alpha_hi_W, gamma_bar_W = _theorem3_setting(M, a, alpha_lo, alpha_hi_W, gamma_bar_W)
     T = as_int("T", T, minimum=1)

@@ -48,6 +48,28 @@ def alpha_f_tilde(alpha_f_S, M) -> float:
 
     It bounds how a one-step deviation of the state grows along the M - 1 remaining steps of a plan.
     Needs M >= 2 (Lemma 4 is stated for M >= 2).
+
+    Parameters
+    ----------
+    alpha_f_S : α_f S, the growth of a one-step deviation (Lemma 4).
+    M : the horizon M (an integer; above the threshold where the result needs it).
+
+    Returns
+    -------
+    float
+        α̃_f.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.alpha_f_tilde(1.2, M=6), 6))
+    2.48832
     """
     L = _nonneg("alpha_f_S", alpha_f_S)
     M = as_int("M", M, minimum=2)
@@ -60,6 +82,34 @@ def Gamma_V_theta(M, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_ti
 
     The coefficient of ‖θ̂ - θ‖ in the increment bound of Lemma 4: 2α_V for moving between V(·; θ̂) and
     V(·; θ) at t and t+1, and the second term for the state the wrong input κ(x; θ̂) actually reaches.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    alpha_V : α_V, the Lipschitz constant of V_M in θ (Lemma 3).
+    alpha_kappa : α_κ, the Lipschitz constant of the control law in θ (Lemma 3).
+    alpha_c : α_c, the Lipschitz constant of the cost in x.
+    alpha_tilde_f : α̃_f (:func:`alpha_f_tilde`).
+
+    Returns
+    -------
+    float
+        Γ^θ_V.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.Gamma_V_theta(6, 1.0, 2.0, alpha_V=0.5, alpha_kappa=0.5, alpha_c=1.0,
+    ...                                   alpha_tilde_f=2.48832), 6))
+    9.70912
     """
     M = as_int("M", M, minimum=2)
     alpha_lo, alpha_hi = known._alphas(alpha_lo, alpha_hi)
@@ -76,6 +126,38 @@ def lemma4_bound(sigma_t, w_energy, theta_error, M, alpha_lo, alpha_hi, gamma_ba
 
     (Γ_V, Γ^γ_V of Lemma 1, :func:`orrc.theory.Gamma_V`). ``w_energy`` is the previewed energy
     Σ_{k=t}^{t+M-1} ‖w_k‖²; ``theta_error`` = ‖θ̂ - θ‖.
+
+    Parameters
+    ----------
+    sigma_t : σ(x_t) >= 0.
+    w_energy : Σ_{k=t}^{t+M-1} ‖w_k‖², the previewed energy.
+    theta_error : ‖θ̂ - θ‖ >= 0.
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    gamma_bar : γ̄ >= 0, the disturbance constant of Lemma 1.
+    alpha_V : α_V, the Lipschitz constant of V_M in θ (Lemma 3).
+    alpha_kappa : α_κ, the Lipschitz constant of the control law in θ (Lemma 3).
+    alpha_c : α_c, the Lipschitz constant of the cost in x.
+    alpha_tilde_f : α̃_f (:func:`alpha_f_tilde`).
+
+    Returns
+    -------
+    float
+        the bound on V^{t+1}_M - V^t_M.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.lemma4_bound(1.0, 0.1, 0.01, 6, 1.0, 2.0, 1.0, alpha_V=0.5, alpha_kappa=0.5,
+    ...                                  alpha_c=1.0, alpha_tilde_f=2.48832), 6))
+    0.037091
     """
     sigma_t = _nonneg("sigma_t", sigma_t)
     w_energy = _nonneg("w_energy", w_energy)
@@ -107,6 +189,36 @@ def lemma5_c(M, a, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tild
     The θ-term of the recursion V^{t+1}_M <= a V^t_M + b Σ_{k=t}^{t+M-1} ‖w_k‖² + c ‖θ̂ - θ‖. The
     appendix's c carries α_κ (the statement omits it: a typo, the proof needs it). ``eps_tilde`` (ε̃)
     defaults to ᾱ(1 - a), which makes a = 1 - ε̃/ᾱ exactly; M above the threshold, a admissible.
+
+    Parameters
+    ----------
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    a : the decay rate, in [the minimal decay rate, 1).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    alpha_V : α_V, the Lipschitz constant of V_M in θ (Lemma 3).
+    alpha_kappa : α_κ, the Lipschitz constant of the control law in θ (Lemma 3).
+    alpha_c : α_c, the Lipschitz constant of the cost in x.
+    alpha_tilde_f : α̃_f (:func:`alpha_f_tilde`).
+    eps_tilde : ε̃ (default ᾱ(1 - a)).
+
+    Returns
+    -------
+    float
+        c.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.lemma5_c(6, 0.9, 1.0, 2.0, alpha_V=0.5, alpha_kappa=0.5, alpha_c=1.0,
+    ...                              alpha_tilde_f=2.48832), 6))
+    9.75912
     """
     M, a, alpha_lo, alpha_hi, _ = known._lemma2_setting(M, a, alpha_lo, alpha_hi, 1.0)
     aV, ak, ac, af = _lipschitz_constants(alpha_V, alpha_kappa, alpha_c, alpha_tilde_f)
@@ -117,7 +229,32 @@ def lemma5_c(M, a, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tild
 @finite_result
 def lemma5_M_theta(H, a, c, alpha_V) -> float:
     """M_θ = c (1 - a^H)/(1 - a) + a^H α_V  (Lemma 5, in the appendix's form; the statement's
-    "c(1 - a^H)(1 - a)" is a typo): the coefficient of ‖θ̂ - θ‖ in the cost bound at t + H."""
+    "c(1 - a^H)(1 - a)" is a typo): the coefficient of ‖θ̂ - θ‖ in the cost bound at t + H.
+
+    Parameters
+    ----------
+    H : the look-ahead H >= M.
+    a : the decay rate, in [the minimal decay rate, 1).
+    c : the θ-gain c of Lemma 5 (:func:`lemma5_c`).
+    alpha_V : α_V, the Lipschitz constant of V_M in θ (Lemma 3).
+
+    Returns
+    -------
+    float
+        M_θ.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> print(round(theory.lemma5_M_theta(H=10, a=0.9, c=9.75912, alpha_V=0.5), 4))
+    63.7376
+    """
     H = as_int("H", H, minimum=0)
     a = as_float("a", a, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
     c = _nonneg("c", c)
@@ -131,6 +268,42 @@ def lemma5_bound(sigma_t, w_window, theta_error, M, H, a, alpha_lo, alpha_hi, ga
     """The right-hand side of Lemma 5: Lemma 2's bound (:func:`orrc.theory.lemma2_bound`) + M_θ ‖θ̂ - θ‖,
 
         c_{t+H} <= ᾱ a^H σ(x_t) + Σ_{j=t}^{t_H+M-2} M_{w,j} ‖w_j‖² + M_θ ‖θ̂ - θ‖.
+
+    Parameters
+    ----------
+    sigma_t : σ(x_t) >= 0.
+    w_window : (H + M - 1, n) the disturbances w_t..w_{t+H+M-2}.
+    theta_error : ‖θ̂ - θ‖ >= 0.
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    H : the look-ahead H >= M.
+    a : the decay rate, in [the minimal decay rate, 1).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    gamma_bar : γ̄ >= 0, the disturbance constant of Lemma 1.
+    alpha_V : α_V, the Lipschitz constant of V_M in θ (Lemma 3).
+    alpha_kappa : α_κ, the Lipschitz constant of the control law in θ (Lemma 3).
+    alpha_c : α_c, the Lipschitz constant of the cost in x.
+    alpha_tilde_f : α̃_f (:func:`alpha_f_tilde`).
+    eps_tilde : ε̃ (default ᾱ(1 - a)).
+
+    Returns
+    -------
+    float
+        the bound on c_{t+H}.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> import numpy as np
+    >>> print(round(theory.lemma5_bound(1.0, np.zeros((11, 2)), 0.01, 6, 6, 0.9, 1.0, 2.0, 1.0, 0.5, 0.5,
+    ...                                  1.0, 2.48832), 6))
+    1.522812
     """
     base = known.lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar)
     c = lemma5_c(M, a, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tilde_f, eps_tilde)
@@ -140,9 +313,21 @@ def lemma5_bound(sigma_t, w_window, theta_error, M, H, a, alpha_lo, alpha_hi, ga
 class Theorem2Bound(NamedTuple):
     """The bound of Theorem 2 in its three parts (their sum is ``total``; arrays for several T).
 
+    Attributes
+    ----------
     estimation : Σ_{t<N} (c_t - γ‖w_t‖²), the estimation phase (the O(N));
     known : Theorem 1's explicit constant for the control phase from x_N (the O(1));
     model_error : Σ_{H=0}^{T-N-1} M_θ(H) ‖θ̂ - θ‖ (the O((T - N + 1) g(N))).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc import theory
+    >>> bound = theory.theorem2_constant(np.ones(5), np.zeros((30, 2)), 1.0, 0.01, T=20, N=5, M=6, a=0.9,
+    ...                                  alpha_lo=1.0, alpha_hi=2.0, gamma_bar=1.0, gamma=250.0, alpha_V=0.5,
+    ...                                  alpha_kappa=0.5, alpha_c=1.0, alpha_tilde_f=2.48832)
+    >>> bound.estimation
+    5.0
     """
 
     estimation: float | np.ndarray
@@ -170,6 +355,47 @@ def theorem2_constant(estimation_costs, w, sigma_N, theta_error, T, N, M, a, alp
     ``estimation_costs`` (N,) c_0..c_{N-1}; ``w`` (L, n) all the disturbances w_0, w_1, ... with the
     preview tail (L >= T + M - 2); ``T`` > N, an integer or a 1-D array of horizons (then every part is
     an array, one entry per horizon: the bound for all T at once).
+
+    Parameters
+    ----------
+    estimation_costs : (N,) the stage costs c_t measured in the estimation phase.
+    w : (L, n) the disturbances w_0, w_1, ... (enough rows for the previewed ones).
+    sigma_N : σ(x_N) >= 0, at the end of the estimation phase.
+    theta_error : ‖θ̂ - θ‖ >= 0.
+    T : the number of steps.
+    N : the length of the estimation phase.
+    M : the horizon M (an integer; above the threshold where the result needs it).
+    a : the decay rate, in [the minimal decay rate, 1).
+    alpha_lo : α_lo > 0, with c(x, u) >= α_lo σ(x) (Assumption 2).
+    alpha_hi : ᾱ >= α_lo, with V_M(x, w) <= ᾱ σ(x) + γ̄ Σ‖w‖² (Lemma 1).
+    gamma_bar : γ̄ >= 0, the disturbance constant of Lemma 1.
+    gamma : the attenuation level γ (at least the certified level).
+    alpha_V : α_V, the Lipschitz constant of V_M in θ (Lemma 3).
+    alpha_kappa : α_κ, the Lipschitz constant of the control law in θ (Lemma 3).
+    alpha_c : α_c, the Lipschitz constant of the cost in x.
+    alpha_tilde_f : α̃_f (:func:`alpha_f_tilde`).
+    eps_tilde : ε̃ (default ᾱ(1 - a)).
+
+    Returns
+    -------
+    Theorem2Bound
+        the three parts and their ``total``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a constant is out of range (non-positive, α_lo > ᾱ, a outside its interval, M not
+        above the threshold where the result needs it) or the result overflows.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> import numpy as np
+    >>> bound = theory.theorem2_constant(np.ones(5), np.zeros((30, 2)), 1.0, 0.01, T=20, N=5, M=6, a=0.9,
+    ...                                  alpha_lo=1.0, alpha_hi=2.0, gamma_bar=1.0, gamma=250.0, alpha_V=0.5,
+    ...                                  alpha_kappa=0.5, alpha_c=1.0, alpha_tilde_f=2.48832)
+    >>> print(round(bound.estimation, 4), round(bound.total, 4))
+    5.0 27.8108
     """
     Ts = np.atleast_1d(np.asarray(T))
     if Ts.ndim != 1 or Ts.size == 0 or not np.issubdtype(Ts.dtype, np.integer):

@@ -37,7 +37,7 @@ def _symlog(ax, *arrays) -> None:
     """A symmetric log scale whose linear part covers the small magnitudes (the smallest
     tenth of the non-zero values, and at least 1e-6 of the largest). Labelled ticks: 0 and
     the powers of ten from ten times the linear part outwards (every other one when there
-    are many), so that no labels pile up around 0."""
+    are many), so that no labels pile up near 0."""
     from matplotlib.ticker import FixedLocator, NullLocator
 
     v = np.concatenate([np.ravel(a) for a in arrays])
