@@ -94,3 +94,36 @@ def test_every_picture_is_a_numbered_captioned_figure(book, page):
         if not (caption and number and re.search(r"\d", number.get_text())):
             bare.append(img.get("alt") or img.get("src", "")[:40])
     assert not bare, f"{page}: pictures without a number and a caption: {bare[:5]}"
+
+
+def test_the_map_links_every_result_to_its_chapter():
+    """The map of the paper's results (tools/sphinx_map.py) is SVG whose boxes link to chapters of
+    the book, with a text alternative."""
+    import xml.etree.ElementTree as ET
+
+    from tools.sphinx_map import RESULTS, RESTS_ON, draw_svg
+    from tools.toc import toc_pages
+
+    pages = set(toc_pages())
+    assert {r.page for r in RESULTS} <= pages, "a box of the map points to a page not in _toc.yml"
+    keys = {r.key for r in RESULTS}
+    assert all(a in keys and b in keys for a, b in RESTS_ON)
+    svg = draw_svg({r.page: f"{r.page}.html" for r in RESULTS})
+    root = ET.fromstring(svg)
+    ns = {"svg": "http://www.w3.org/2000/svg", "xlink": "http://www.w3.org/1999/xlink"}
+    hrefs = {a.get(f"{{{ns['xlink']}}}href") for a in root.iter(f"{{{ns['svg']}}}a")}
+    assert {f"{r.page}.html" for r in RESULTS} <= hrefs
+    assert root.find("svg:title", ns) is not None and "Lemma 6" in root.find("svg:title", ns).text
+
+
+@pytest.mark.slow
+def test_the_map_is_on_the_paper_at_a_glance_and_its_links_resolve(book):
+    from bs4 import BeautifulSoup
+
+    assert book["rc"] == 0, "the book build failed"
+    page = BOOK_HTML / "book" / "paper.html"
+    soup = BeautifulSoup(page.read_text(encoding="utf-8"), "html.parser")
+    svg = soup.find("svg", class_="orrc-results-map")
+    assert svg is not None, "the paper-at-a-glance page has no map"
+    links = [a.get("xlink:href") or a.get("href") for a in svg.find_all("a")]
+    assert links and all((page.parent / link.split("#")[0]).resolve().is_file() for link in links), links

@@ -63,6 +63,10 @@ ALT = ("A map of the paper's results. The problem, Eq. (2), leads to three algor
        "Theorems 1 and 3 lead to the comparisons. Each box links to the chapter that computes it.")
 
 
+CAPTION = ("The paper's results and how they rest on each other: an arrow points from a result to one "
+           "proved with it. Each box links to the chapter that computes it.")
+
+
 def _x(result: Result) -> float:
     return 2.0 if result.column == 0 else float(result.column)
 
@@ -135,7 +139,8 @@ def _resolve(app, doctree, docname):
             node.replace_self(nodes.paragraph(text=ALT))
             continue
         urls = {r.page: app.builder.get_relative_uri(docname, r.page) for r in RESULTS}
-        html = f'<figure class="orrc-map">{draw_svg(urls, node["part"])}</figure>'
+        html = (f'<figure class="orrc-map">{draw_svg(urls, node["part"])}<figcaption>{CAPTION}</figcaption>'
+                '</figure>')
         node.replace_self(nodes.raw("", html, format="html"))
 
 
