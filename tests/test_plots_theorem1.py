@@ -120,6 +120,18 @@ def test_regret_growth_draws_eq2_and_the_theorem1_ceiling(scalar):
     assert ax.get_ylim() == (-5.0, 5.0)
 
 
+def test_regret_growth_without_ylim_follows_the_data_at_every_gamma(scalar):
+    """The chapter's explorer draws R^p_t(γ) from below the exact level up to γ_c without fixed
+    limits: in every frame the vertical axis holds every curve (no frame leaves the plot)."""
+    _, _, c, _, traj = scalar
+    t = np.arange(1, traj.T + 1)
+    for gamma in (0.8, 1.0, 10.0, c.gamma_c):
+        R = {"run": orrc.attenuation_regret(traj, gamma, cumulative=True)}
+        lo, hi = theory_plots.regret_growth(t, R).axes[0].get_ylim()
+        assert lo <= R["run"].min() and R["run"].max() <= hi, (gamma, (lo, hi))
+        assert hi - lo < 2 * (max(R["run"].max(), 0.0) - min(R["run"].min(), 0.0)), (gamma, (lo, hi))
+
+
 def test_regret_growth_rejects_bad_input(scalar):
     _, _, _, _, traj = scalar
     t = np.arange(1, traj.T + 1)
