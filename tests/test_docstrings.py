@@ -25,10 +25,12 @@ PENDING_DOCSTRINGS = {"MinMaxRHC"}
 
 #: public modules beyond orrc.__all__ whose every public name is held to the same sections
 COMPLETE_PACKAGES = ["orrc.config", "orrc.theory", "orrc.checks", "orrc.certify", "orrc.estimation",
-                     "orrc.comparison", "orrc.tradeoff"]
+                     "orrc.comparison", "orrc.tradeoff", "orrc.costs", "orrc.controllers", "orrc.controllers.gpc",
+                     "orrc.controllers.hinf", "orrc.controllers.lifted", "orrc.solvers.lq", "orrc.solvers.game",
+                     "orrc.solvers.condensed", "orrc.solvers.regret"]
 #: modules of those packages whose docstrings do not have their sections yet
 PENDING_MODULES = {"orrc.certify.minmax", "orrc.certify._lemma6_case", "orrc.certify._lemma6_recheck",
-                   "orrc.certify.lemma6"}
+                   "orrc.certify.lemma6", "orrc.controllers.minmax"}
 
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
