@@ -46,7 +46,38 @@ def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True, f
     (else exactly the figure's size); ``close``: close it afterwards (a figure made with
     pyplot); ``fast``: full colour and the lightest compression instead (about twice as fast,
     twice the bytes: for a live widget, where the image never leaves the machine; at the figure's
-    size, ``tight=False``, drawn once instead of twice: :func:`_agg_png`)."""
+    size, ``tight=False``, drawn once instead of twice: :func:`_agg_png`).
+
+    Parameters
+    ----------
+    fig : a matplotlib figure.
+    dpi : the resolution, >= 100.
+    close, tight, fast : see above.
+
+    Returns
+    -------
+    bytes
+        the PNG file's bytes.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``fig`` is not a matplotlib figure or ``dpi`` is below 100.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> import orrc.viz
+    >>> def plot(M):
+    ...     fig = Figure(figsize=(4, 3))
+    ...     ax = fig.add_subplot()
+    ...     ax.plot(range(M))
+    ...     ax.set_title(f"M = {M}")
+    ...     return fig
+    >>> png = orrc.viz.figure_to_png(plot(3), close=False)
+    >>> png[:8] == b"\\x89PNG\\r\\n\\x1a\\n"
+    True
+    """
     from .._validate import as_int
 
     fig = _figure_arg("fig", fig)
