@@ -17,6 +17,7 @@ from __future__ import annotations
 import gc
 import os
 import platform
+import re
 import sys
 import time
 from dataclasses import dataclass, field
@@ -120,11 +121,13 @@ def markdown_table(rows: list[Row]) -> str:
     return "\n".join(lines)
 
 
-def machine() -> str:
-    """A one-line description of the machine and the library versions."""
+def machine_info() -> dict:
+    """The machine and the library versions, as a dict (the results file's ``machine`` and ``versions``)."""
     import casadi
     import control
     import scipy
+
+    import orrc
 
     cpu = platform.processor() or platform.machine()
     try:
@@ -139,8 +142,29 @@ def machine() -> str:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:  # pragma: no cover - not Linux
         cores = os.cpu_count()
-    return (f"{cpu}, {cores} cores available; Python {sys.version.split()[0]}, numpy {np.__version__}, "
-            f"scipy {scipy.__version__}, casadi {casadi.__version__}, python-control {control.__version__}")
+    return {"cpu": cpu, "cores": cores, "platform": platform.platform(),
+            "versions": {"python": sys.version.split()[0], "orrc": orrc.__version__, "numpy": np.__version__,
+                         "scipy": scipy.__version__, "casadi": casadi.__version__,
+                         "python-control": control.__version__}}
+
+
+def machine() -> str:
+    """A one-line description of the machine and the library versions."""
+    info = machine_info()
+    v = info["versions"]
+    return (f"{info['cpu']}, {info['cores']} cores available; Python {v['python']}, numpy {v['numpy']}, "
+            f"scipy {v['scipy']}, casadi {v['casadi']}, python-control {v['python-control']}")
+
+
+def parse_time(text: str) -> float | None:
+    """The seconds of the duration that starts ``text`` as :func:`fmt_time` writes it ("77.2 µs (...)"),
+    or None where it starts with none ("skipped", "—")."""
+    m = _TIME.match(text.strip())
+    return float(m.group(1)) * _UNIT[m.group(2)] if m else None
+
+
+_TIME = re.compile(r"([0-9]+(?:\.[0-9]*)?(?:e[+-]?[0-9]+)?) (µs|ms|s)\b")
+_UNIT = {"µs": 1e-6, "ms": 1e-3, "s": 1.0}
 
 
 class CheckFailed(AssertionError):

@@ -245,7 +245,8 @@ def run(T: int = 200, M: int = 20, reps: int = 7, reps_control: int = 6, peers=(
                         f"{p_cpu / o_cpu:.2f}× faster (wall {p_wall / o_wall:.2f}×)",
                         "orrc faster (CPU)" if target else "—", (o_cpu < p_cpu) if target else None,
                         f"{label}'s BLAS threads: {report['threads']}; rel. gap {gap:+.1e}, states {dx:.0e}",
-                        dict(t_peer=p_cpu, t_peer_wall=p_wall, t_orrc=o_cpu, speedup=p_cpu / o_cpu, gap=gap)))
+                        dict(t_peer=p_cpu, t_peer_wall=p_wall, t_orrc=o_cpu, speedup=p_cpu / o_cpu, gap=gap,
+                             peer=label, version=report['version'])))
     # python-control: the same M-step problem as orrc's at those states (its optimum checked outside the timing)
     steps = sorted(set(control_at))
     for t, (U_ct, res) in c_out:
@@ -261,5 +262,6 @@ def run(T: int = 200, M: int = 20, reps: int = 7, reps_control: int = 6, peers=(
                     f"{ct_cpu / o_cpu:.0f}× faster (wall {ct_wall / o_wall:.0f}×)", f"≥ {TARGET_CONTROL:.0f}× (CPU)",
                     ct_cpu / o_cpu >= TARGET_CONTROL,
                     f"BLAS threads: {threads}; steps t = {steps}, same optimum to {pendulum.VALUE_RTOL:g}",
-                    dict(t_peer=ct_cpu, t_peer_wall=ct_wall, t_orrc=o_cpu, speedup=ct_cpu / o_cpu)))
+                    dict(t_peer=ct_cpu, t_peer_wall=ct_wall, t_orrc=o_cpu, speedup=ct_cpu / o_cpu,
+                         peer="python-control", version=control.__version__)))
     return rows

@@ -24,7 +24,19 @@ __all__ = ["progress", "watched", "working"]
 
 def in_kernel() -> bool:
     """True inside a Jupyter kernel (an IPython shell with a kernel), where a live widget or a status
-    line can be shown. Asks only an IPython already imported: ``import orrc`` stays light."""
+    line can be shown. Asks only an IPython already imported: ``import orrc`` stays light.
+
+    Returns
+    -------
+    bool
+        whether this code runs in a Jupyter kernel.
+
+    Examples
+    --------
+    >>> from orrc.viz.kernel import in_kernel
+    >>> in_kernel()       # a doctest runs outside any kernel
+    False
+    """
     ipython = sys.modules.get("IPython")
     shell = ipython.get_ipython() if ipython is not None else None
     return shell is not None and hasattr(shell, "kernel")

@@ -32,7 +32,26 @@ def _norm_sq(x) -> float:
 
 
 def psd_factor(S: np.ndarray) -> np.ndarray:
-    """A matrix F with FᵀF = S for a symmetric PSD S (a weight's square root: xᵀQx = ‖Fx‖²)."""
+    """A matrix F with FᵀF = S for a symmetric PSD S (a weight's square root: xᵀQx = ‖Fx‖²).
+
+    Parameters
+    ----------
+    S : (n, n) symmetric positive semidefinite.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, n) F with FᵀF = S.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.costs import psd_factor
+    >>> S = np.array([[4.0, 1.0], [1.0, 2.0]])
+    >>> F = psd_factor(S)
+    >>> bool(np.allclose(F.T @ F, S))
+    True
+    """
     lam, V = np.linalg.eigh(0.5 * (S + S.T))
     return np.sqrt(np.clip(lam, 0.0, None))[:, None] * V.T
 

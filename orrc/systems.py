@@ -25,7 +25,33 @@ from ._validate import OrrcValueError, as_array, as_int, as_square, check_evalua
 
 def traced(f: Callable, args: tuple, n: int, signature: str):
     """``f(*args)`` traced on CasADi symbols: the next state as an (n, 1) SX, or a clear error naming
-    ``signature`` when f is not CasADi-traceable or does not return n values."""
+    ``signature`` when f is not CasADi-traceable or does not return n values.
+
+    Parameters
+    ----------
+    f : the user's function.
+    args : the CasADi symbols to call it with.
+    n : the length of the next state.
+    signature : how f is called, for the message (e.g. "f(x, u, w)").
+
+    Returns
+    -------
+    casadi.SX
+        (n, 1) the traced next state.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When f fails on CasADi symbols or does not return n values.
+
+    Examples
+    --------
+    >>> import casadi as ca
+    >>> from orrc.systems import traced
+    >>> x, u, w = ca.SX.sym("x", 2), ca.SX.sym("u", 1), ca.SX.sym("w", 2)
+    >>> traced(lambda x, u, w: x + w, (x, u, w), 2, "f(x, u, w)").shape
+    (2, 1)
+    """
     try:
         out = ca.vec(ca.SX(f(*args)))
     except Exception as exc:  # the user function is not CasADi-traceable
@@ -139,7 +165,31 @@ class LinearSystem(System):
 
 def model_header(f, call: str, n_states, n_inputs, name) -> tuple[int, int, str]:
     """(n, m, name) of a model given by a user's function ``f`` (called as ``call``, e.g. "f(x, u, w)"),
-    checked: f callable, the dimensions integers >= 1, the name a string."""
+    checked: f callable, the dimensions integers >= 1, the name a string.
+
+    Parameters
+    ----------
+    f : the user's function.
+    call : how f is called (e.g. "f(x, u, w)").
+    n_states, n_inputs : the dimensions.
+    name : the model's label.
+
+    Returns
+    -------
+    tuple
+        (n, m, name), checked.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When f is not callable, a dimension is not an integer >= 1, or the name is not a string.
+
+    Examples
+    --------
+    >>> from orrc.systems import model_header
+    >>> model_header(lambda x, u, w: x, "f(x, u, w)", 2, 1, "my model")
+    (2, 1, 'my model')
+    """
     if not callable(f):
         raise OrrcValueError(f"f must be callable {call}; got {type(f).__name__}")
     if not isinstance(name, str):

@@ -109,7 +109,24 @@ class Trajectory:
 
 
 def steps_text(steps, most: int = 12) -> str:
-    """"0-4, 17, 20" for [0, 1, 2, 3, 4, 17, 20] (the first ``most`` runs, then "...")."""
+    """"0-4, 17, 20" for [0, 1, 2, 3, 4, 17, 20] (the first ``most`` runs, then "...").
+
+    Parameters
+    ----------
+    steps : increasing step indices.
+    most : the number of runs written before "...".
+
+    Returns
+    -------
+    str
+        the runs of consecutive steps.
+
+    Examples
+    --------
+    >>> from orrc.trajectory import steps_text
+    >>> steps_text([0, 1, 2, 3, 4, 17, 20])
+    '0-4, 17, 20'
+    """
     runs, start = [], None
     for i, t in enumerate(steps):
         if start is None:
@@ -121,6 +138,30 @@ def steps_text(steps, most: int = 12) -> str:
 
 
 def failure_summary(name: str, T: int, ok, status, fallback) -> str:
+    """The message of the one :class:`~orrc.SolverWarning` of a run with failed steps.
+
+    Parameters
+    ----------
+    name : the controller's name.
+    T : the number of steps.
+    ok : (T,) bool, False at the failed steps.
+    status : (T,) the steps' solver statuses.
+    fallback : (T,) what each failed step applied instead (None where nothing is stated).
+
+    Returns
+    -------
+    str
+        the failed steps, their statuses and what was applied instead.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.trajectory import failure_summary
+    >>> text = failure_summary("preview RHC", 4, np.array([True, False, False, True]),
+    ...                        ["ok", "failed", "failed", "ok"], [None, "the shifted plan", "the shifted plan", None])
+    >>> text[:58]
+    'preview RHC: the solve failed at 2 of 4 steps (t = 1-2; st'
+    """
     steps = np.flatnonzero(~ok)
     applied = Counter(fallback[t] or "not stated by the controller" for t in steps)
     statuses = sorted({status[t] for t in steps})
@@ -161,7 +202,27 @@ def _nonfinite_report(name, C, sig, V, valid_value, reported=None):
 
 def windows(wpad, Mw: int, k: int):
     """The preview windows w_{t:t+M_w-1} of the steps t < k, a read-only (k, M_w, n) view of the
-    disturbance record (no copy)."""
+    disturbance record (no copy).
+
+    Parameters
+    ----------
+    wpad : (L, n) the disturbance record, L >= k + M_w - 1.
+    Mw : the preview length M_w.
+    k : the number of steps.
+
+    Returns
+    -------
+    numpy.ndarray
+        (k, M_w, n), read-only, row t = w_t..w_{t+M_w-1}.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.trajectory import windows
+    >>> W = windows(np.arange(12.0).reshape(6, 2), 3, 4)
+    >>> W.shape, W.flags.writeable, W[1, 0]
+    ((4, 3, 2), False, array([2., 3.]))
+    """
     n = wpad.shape[1]
     s0, s1 = wpad.strides
     return np.lib.stride_tricks.as_strided(wpad, shape=(k, Mw, n), strides=(s0, s0, s1), writeable=False)
@@ -193,6 +254,25 @@ class Record:
     ``X_read`` is a read-only view of ``X``: its rows are what a controller is handed as x_t.
     ``wpad`` is the read-only disturbance record (w plus the preview tail, zeros past the data);
     ``cparams`` the cost parameters of a cost sequence (read-only; None for a time-invariant cost).
+
+    Parameters
+    ----------
+    controller : the :class:`~orrc.Controller` of the run.
+    stage : the stage-cost family of the run.
+    seq : the :class:`~orrc.CostSequence` of a time-varying cost, or None.
+    x0 : (n,) the initial state.
+    wpad, cparams : the disturbance record and the cost parameters (see above).
+    T, n, m : the number of steps and the dimensions.
+
+    Examples
+    --------
+    :func:`orrc.simulate` fills one and turns it into the :class:`~orrc.Trajectory`:
+
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> traj = orrc.simulate(di.system, orrc.LQR(di.system, di.cost), di.x0, orrc.disturbances.zero(5, 2), T=5)
+    >>> traj.x.shape
+    (6, 2)
     """
 
     def __init__(self, controller, stage: StageCost, seq, x0, wpad, cparams, T: int, n: int, m: int):

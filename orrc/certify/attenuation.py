@@ -32,6 +32,8 @@ _BOUNDARY = 1e-8
 class Attenuation:
     """The attenuation a linear closed loop achieves against the worst disturbance.
 
+    Attributes
+    ----------
     gamma : the smallest γ with R^p_T(γ) <= 0 for every disturbance (finite T), or the
         squared H∞ norm (T = None, the limit T → ∞); ``inf`` when the loop is unstable.
     w : (T, n) the worst-case disturbance, unit total energy Σ‖w_t‖² = 1 (None for the limit).
@@ -41,6 +43,16 @@ class Attenuation:
         cost output (the limit), else None.
     reason : None, or why gamma is infinite.
     start : "cold" for finite T and the cold-start limit, "stationary" for the H∞ level.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> di = orrc.examples.double_integrator()
+    >>> lqr = orrc.LQR(di.system, di.cost)
+    >>> worst = certify.worst_case_attenuation(di.system, lqr, T=30)
+    >>> print(round(worst.gamma, 3), worst.w.shape)
+    95.267 (30, 2)
     """
 
     gamma: float
@@ -71,6 +83,35 @@ def worst_case_attenuation(system: LinearSystem, controller: Controller, T: int,
     The preview past T sees zeros (the :func:`orrc.simulate` convention when w has exactly
     T rows), so ``orrc.simulate(system, controller, 0, result.w, T)`` gives
     R^p_T(γ*) = 0 up to rounding. ``cost`` defaults to the controller's own cost.
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    controller : a linear controller (Algorithm 1 on the LQ path, LQR, H∞, zero input, ...).
+    T : the horizon.
+    cost : the quadratic cost (default: the controller's).
+
+    Returns
+    -------
+    Attenuation
+        ``gamma`` = σ_max(G)², the worst disturbance ``w`` (T, n) of unit energy, ``G``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the system is not linear or the cost not quadratic, an argument is out of range, or the
+        computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> di = orrc.examples.double_integrator()
+    >>> lqr = orrc.LQR(di.system, di.cost)
+    >>> worst = certify.worst_case_attenuation(di.system, lqr, T=30)
+    >>> traj = orrc.simulate(di.system, lqr, [0.0, 0.0], worst.w, T=30)   # the adversary made explicit
+    >>> print(round(traj.costs.sum(), 3))
+    95.267
     """
     loop = _linear_loop(system, controller, cost)
     T = as_int("T", T, minimum=1)
@@ -178,6 +219,34 @@ def worst_case_attenuation_limit(system: LinearSystem, controller: Controller, c
     (relative), so the level is the larger of its result and the peak of the frequency response
     (a grid refined by a scalar search), both lower bounds on the norm. An unstable closed loop has no finite limit: ``gamma = inf``
     with a ``reason``.
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    controller : a linear controller.
+    cost : the quadratic cost (default: the controller's).
+    start : "stationary" (the H∞ level) or "cold".
+    tol : the tolerance of the H∞ norm's bisection.
+
+    Returns
+    -------
+    Attenuation
+        ``gamma`` (``inf`` with a ``reason`` for an unstable loop) and the ``closed_loop``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the system is not linear or the cost not quadratic, an argument is out of range, or the
+        computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> di = orrc.examples.double_integrator()
+    >>> lqr = orrc.LQR(di.system, di.cost)
+    >>> print(round(certify.worst_case_attenuation_limit(di.system, lqr).gamma, 2))
+    110.0
     """
     import control
 

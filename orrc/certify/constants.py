@@ -53,6 +53,15 @@ class Constants:
         lower bounds on the true alpha_hi, gamma_bar (not certificates).
     method : a short description of how the numbers were obtained.
     info : extra data (the value matrix H for LQ; the samples for sampled estimates).
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
+    >>> print(k.alpha_lo, round(k.alpha_hi, 4), round(k.gamma_bar, 4), round(k.gamma_c, 2))
+    1.0 2.1808 4.1834 572.85
     """
 
     M: int
@@ -194,6 +203,31 @@ def alpha_hi_floor(system: LinearSystem, cost: QuadraticCost, Ms) -> np.ndarray:
     (P_0 of the M-step problem is the M-th iterate from P = 0, whatever the longest horizon),
     kept only at the requested horizons. Refused when max(Ms) Riccati steps exceed the limits
     of ``orrc.config``.
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    cost : a :class:`~orrc.QuadraticCost`.
+    Ms : the horizons, integers >= 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        (len(Ms),) λ_max(P_0(M)) for each M.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the system is not linear or the cost not quadratic, an argument is out of range, or the
+        computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> certify.alpha_hi_floor(ex.system, ex.cost, [2, 5, 8]).round(4)
+    array([1.72  , 1.9511, 1.9522])
     """
     _lq_check(system, cost)
     if isinstance(Ms, (str, bytes)) or not np.iterable(Ms):
@@ -232,6 +266,31 @@ def smallest_certified_M(system: LinearSystem, cost: QuadraticCost, M_max: int =
     Theorem 1). The floors λ_max(P_0(M)) are :func:`alpha_hi_floor`'s, from one recursion that
     stops at the first certified M. Refused when M_max Riccati steps (the worst case) exceed the
     limits of ``orrc.config``.
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    cost : a :class:`~orrc.QuadraticCost`.
+    M_max : the largest horizon tried.
+
+    Returns
+    -------
+    int or None
+        the smallest certified M, or None up to ``M_max``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the system is not linear or the cost not quadratic, an argument is out of range, or the
+        computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> certify.smallest_certified_M(ex.system, ex.cost)
+    5
     """
     _lq_check(system, cost)
     M_max = as_int("M_max", M_max, minimum=2)
@@ -262,6 +321,34 @@ def lq_constants(system: LinearSystem, cost: QuadraticCost, M: int, grid: int = 
     The block of H for the last previewed disturbance w_{t+M-1} is zero (it acts after
     the last costed state): that is expected. When no pair is admissible at this M,
     ``gamma_c = inf`` and ``reason`` says why (and which M would do).
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    cost : a :class:`~orrc.QuadraticCost`.
+    M : the horizon of Algorithm 1.
+    grid : the points of the scan along the Pareto curve.
+
+    Returns
+    -------
+    Constants
+        α_lo, ᾱ, γ̄, a and γ_c (``inf`` with a ``reason`` when no pair is admissible at M), the Pareto
+        curve ``pareto`` (grid, 2) and γ_c along it.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the system is not linear or the cost not quadratic, an argument is out of range, or the
+        computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
+    >>> print(round(k.gamma_c, 2), k.pareto.shape)
+    572.85 (200, 2)
     """
     from scipy import optimize
 

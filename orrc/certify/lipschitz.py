@@ -47,6 +47,8 @@ _SOLVE_OPS = 1e6
 class Lipschitz:
     """The constants of Lemma 3 (α_V, α_κ) and of Lemma 4 (α_c, α_f S) for one problem.
 
+    Attributes
+    ----------
     theta : the centre of Θ (the true θ); radius : Θ = {θ' : ‖θ' - θ‖_∞ <= radius}.
     rho : the region of (x, W): ‖[x; vec W]‖ <= rho (LQ), or the sampled radii (``info``).
     alpha_V, alpha_kappa : Lemma 3's constants on that region.
@@ -55,6 +57,15 @@ class Lipschitz:
     local_V, local_kappa : the same constants from the derivatives at θ only (the local rate).
     estimate : True for sampled estimates (lower bounds); False for a grid maximum of exact derivatives.
     method : how the supremum over Θ was taken, in words.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)
+    >>> print(round(L.alpha_kappa, 3), L.alpha_c, L.estimate)
+    6.296 10.0 False
     """
 
     theta: np.ndarray
@@ -132,7 +143,35 @@ def _horizon(M) -> int:
 
 def lq_value_matrices(system: LinearSystem, cost: QuadraticCost, M: int, theta=None):
     """(H, G) of the M-step LQ problem at θ = vec([A B]) (default: the system's own), from the CasADi
-    recursion that :func:`lq_lipschitz` differentiates: V_M = zᵀHz, κ_M = -Gz, z = [x; vec W]."""
+    recursion that :func:`lq_lipschitz` differentiates: V_M = zᵀHz, κ_M = -Gz, z = [x; vec W].
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    cost : a :class:`~orrc.QuadraticCost`.
+    M : the horizon.
+    theta : θ = vec([A B]) row by row (default: the system's own).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        H (n + Mn, n + Mn) and G (m, n + Mn).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the system is not linear or the cost not quadratic, an argument is out of range, or the
+        computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> H, G = certify.lq_value_matrices(ex.system, ex.cost, 3)
+    >>> H.shape, G.shape
+    ((4, 4), (1, 4))
+    """
     _check_lq(system, cost)
     M = _horizon(M)
     n, m = system.n, system.m
@@ -185,6 +224,26 @@ def lq_lipschitz(system: LinearSystem, cost: QuadraticCost, M: int, radius: floa
 
     α_V = ρ² max_points σ_max(∂vec H/∂θ), α_κ = ρ max_points σ_max(∂vec G/∂θ), α_f S = max_points
     max(‖A'‖₂, ‖B'‖₂) (‖A δx + B δu‖ <= max(‖A‖, ‖B‖)(‖δx‖ + ‖δu‖)), α_c = 2 λ_max(Q) x_radius.
+
+    Returns
+    -------
+    Lipschitz
+        α_V, α_κ (grid maxima of exact derivatives), α_c, α_f S and the local rates at θ.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the system is not linear or the cost not quadratic, an argument is out of range, or the
+        computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)
+    >>> bool(L.alpha_V >= L.local_V > 0)    # the maximum over Θ is at least the rate at θ
+    True
     """
     _check_lq(system, cost)
     M = _horizon(M)
@@ -239,6 +298,39 @@ def sampled_lipschitz(model, cost: StageCost, M: int, theta, radius: float, n_sa
     ESTIMATES (``estimate=True``): a maximum over samples is a lower bound on the true supremum, valid only
     in the sampled region. α_c: exact for quadratic and ℓ1 costs; α_f S: the largest ‖[∂f/∂x ∂f/∂u]‖₂
     over the samples (also an estimate). Failed solves are dropped (``info['failures']``).
+
+    Parameters
+    ----------
+    model : a :class:`~orrc.ParametricSystem`.
+    cost : the stage cost.
+    M : the horizon.
+    theta : (p,) the centre of Θ.
+    radius : the half-width of the box Θ.
+    n_samples : the number of samples.
+    x_radius, w_radius : the sampled radii of x and of each w_k.
+    input_bounds : (lo, hi), the set U.
+    seed : the samples' seed.
+    solver_options : options for the CasADi path.
+
+    Returns
+    -------
+    Lipschitz
+        the estimated constants (``estimate`` True: lower bounds on the true suprema).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the model, θ or an argument is malformed, or the samples exceed the size limits.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> L = certify.sampled_lipschitz(orrc.ParametricSystem.linear(1, 1), ex.cost, 4, [1.2, 1.0],
+    ...                               radius=0.05, n_samples=4, seed=0)
+    >>> L.estimate
+    True
     """
     from ..controllers.preview import PreviewRHC
     from ..disturbances import Ball

@@ -29,12 +29,24 @@ __all__ = ["Regret", "worst_case_regret"]
 class Regret:
     """The worst-case dynamic regret of a linear closed loop over T steps from x_0 = 0.
 
+    Attributes
+    ----------
     regret : max over Σ‖w_t‖² <= 1 of Σ c_t − Σ c*_t (the clairvoyant optimum's cost, same w): a
         squared gain, like the attenuation level.
     w : (T, n) the disturbance that attains it (unit energy).
     T : the horizon.
     operator : (T m, T n) the regret operator S^½(Φ − Φ*).
     condensed : the condensed problem (:class:`orrc.solvers.condensed.Condensed`).
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> di = orrc.examples.double_integrator()
+    >>> lqr = orrc.LQR(di.system, di.cost)
+    >>> worst = certify.worst_case_regret(di.system, lqr, T=20)
+    >>> worst.w.shape, worst.operator.shape
+    ((20, 2), (20, 40))
     """
 
     regret: float
@@ -53,6 +65,33 @@ def worst_case_regret(system, controller, T: int, cost=None) -> Regret:
     ``orrc.Clairvoyant(system, cost, T)`` on ``result.w`` reproduces it.
     Controllers with preview see zeros past T, as in :func:`orrc.certify.worst_case_attenuation`.
     ``cost`` defaults to the controller's own cost.
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    controller : a linear controller.
+    T : the horizon.
+    cost : the quadratic cost (default: the controller's).
+
+    Returns
+    -------
+    Regret
+        the worst-case ``regret``, the disturbance ``w`` (T, n) that attains it, the ``operator``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the system is not linear or the cost not quadratic, an argument is out of range, or the
+        computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> di = orrc.examples.double_integrator()
+    >>> lqr = orrc.LQR(di.system, di.cost)
+    >>> print(round(certify.worst_case_regret(di.system, lqr, T=20).regret, 3))
+    50.553
     """
     loop = _linear_loop(system, controller, cost, "worst_case_regret")
     T = as_int("T", T, minimum=1)

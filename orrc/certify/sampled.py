@@ -59,6 +59,36 @@ def sampled_constants(system: System, cost: StageCost, M: int, n_samples: int = 
     on the true ᾱ and γ̄ (which are suprema over all x, W), valid only in the sampled
     region. They are not certificates; Theorem 1 computed from them is indicative.
     Solves that fail are dropped (``info['failures']``).
+
+    Parameters
+    ----------
+    system, cost : the problem (any system and stage cost).
+    M : the horizon of Algorithm 1.
+    n_samples : samples per set.
+    x_radius, w_radius : the sampled radii of x and of each w_k.
+    input_bounds : (lo, hi), the set U.
+    seed : the samples' seed.
+    grid : the points of the scan along the sampled Pareto curve.
+    solver_options : options for the CasADi path.
+
+    Returns
+    -------
+    Constants
+        the estimated α_lo, ᾱ, γ̄, a, γ_c (``estimate`` True: lower bounds on the true constants).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When an argument is out of range or the samples exceed the size limits.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.sampled_constants(ex.system, ex.cost, 8, n_samples=5, seed=0)
+    >>> k.estimate, k.M
+    (True, 8)
     """
     from ..disturbances import Ball, _rng
 

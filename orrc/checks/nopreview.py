@@ -46,6 +46,36 @@ def minmax_value_bound_margins(traj, M, W, alpha_hi_W, gamma_bar_W) -> Margins:
 
     Certified constants (:func:`orrc.certify.minmax_constants` for a linear-quadratic problem with a
     box) satisfy it for every x; sampled estimates can fail it, which shows they are too small.
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 3 (``MinMaxRHC``) that recorded V_{W,M}.
+    M : the controller's horizon.
+    W : the disturbance set the controller planned against.
+    alpha_hi_W, gamma_bar_W : the constants ᾱ_W and γ̄_W to check.
+
+    Returns
+    -------
+    Margins
+        margins for t = 0..T-1.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory is not one of Algorithm 3 with its values recorded, has failed steps, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)      # certified α_lo, ᾱ_W, γ̄_W, a, γ_{c,W}
+    >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.MinMaxRHC(ex.system, ex.cost, 6, W), ex.x0, w, 30)
+    >>> checks.minmax_value_bound_margins(traj, 6, W, k.alpha_hi_W, k.gamma_bar_W).holds()
+    True
     """
     traj, M, W = _minmax_trajectory(traj, M, W)
     alpha_hi_W = as_float("alpha_hi_W", alpha_hi_W, minimum=0.0, strict_min=True)
@@ -66,6 +96,37 @@ def lemma6_margins(traj, M, W, alpha_lo, alpha_hi_W, gamma_bar_W) -> Lemma1Margi
 
     Returned as :class:`~orrc.checks.Lemma1Margins` (``Gamma_V``, ``Gamma_V_gamma`` hold Γ_{W,V}, Γ^γ_{W,V}).
     Lemma 6 holds for every M >= 2.
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 3 (``MinMaxRHC``) that recorded V_{W,M}.
+    M : the controller's horizon.
+    W : the disturbance set the controller planned against.
+    alpha_lo, alpha_hi_W, gamma_bar_W : the constants α_lo, ᾱ_W, γ̄_W.
+
+    Returns
+    -------
+    Lemma1Margins
+        ``lower`` (T margins), ``increment`` (T - 1 margins), Γ_{W,V} and Γ^γ_{W,V}.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory is not one of Algorithm 3 with its values recorded, has failed steps, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)      # certified α_lo, ᾱ_W, γ̄_W, a, γ_{c,W}
+    >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.MinMaxRHC(ex.system, ex.cost, 6, W), ex.x0, w, 30)
+    >>> lemma6 = checks.lemma6_margins(traj, 6, W, k.alpha_lo, k.alpha_hi_W, k.gamma_bar_W)
+    >>> lemma6.lower.holds(), lemma6.increment.holds()
+    (True, True)
     """
     traj, M, W = _minmax_trajectory(traj, M, W)
     alpha_lo, alpha_hi_W, gamma_bar_W = _constants_W(alpha_lo, alpha_hi_W, gamma_bar_W)
@@ -89,6 +150,39 @@ def theorem3_margin(traj, M, W, a, alpha_lo, alpha_hi_W, gamma_bar_W, gamma) -> 
     with C the explicit constant of :func:`orrc.theory.theorem3_constant`. Needs M above the
     threshold, a admissible and γ >= γ_{c,W}. ``t`` holds T' and ``actual`` the running
     Σ c - γ T' max‖w‖² (the realised energy Σ‖w_t‖² does not enter).
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 3 (``MinMaxRHC``) that recorded V_{W,M}.
+    M : the controller's horizon.
+    W : the disturbance set the controller planned against.
+    a : the decay rate, in [min_decay_rate_W, 1).
+    alpha_lo, alpha_hi_W, gamma_bar_W : the constants α_lo, ᾱ_W, γ̄_W.
+    gamma : the level, γ >= γ_{c,W}.
+
+    Returns
+    -------
+    Margins
+        margins for T' = 1..T.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory is not one of Algorithm 3 with its values recorded, has failed steps, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)      # certified α_lo, ᾱ_W, γ̄_W, a, γ_{c,W}
+    >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.MinMaxRHC(ex.system, ex.cost, 6, W), ex.x0, w, 30)
+    >>> theorem3 = checks.theorem3_margin(traj, 6, W, k.a, k.alpha_lo, k.alpha_hi_W, k.gamma_bar_W, k.gamma_c_W)
+    >>> theorem3.margin.shape, theorem3.holds()
+    ((30,), True)
     """
     traj, M, W = _minmax_trajectory(traj, M, W)
     M, a, alpha_lo, alpha_hi_W, gamma_bar_W = _theorem3_setting(M, a, alpha_lo, alpha_hi_W, gamma_bar_W)

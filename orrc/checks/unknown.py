@@ -60,6 +60,42 @@ def lemma4_margins(traj, M, alpha_lo, alpha_hi, gamma_bar, alpha_V, alpha_kappa,
 
     with Γ_V, Γ^γ_V of Lemma 1 and Γ^θ_V of :func:`orrc.theory.Gamma_V_theta`. ``theta_error``:
     ‖θ̂ - θ‖ (default: the one the trajectory recorded).
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 2 (``EstimateThenControl``) that recorded V_M.
+    M : the horizon of the control phase.
+    alpha_lo, alpha_hi, gamma_bar : the constants α_lo, ᾱ, γ̄ of the true problem.
+    alpha_V, alpha_kappa, alpha_c, alpha_tilde_f : the Lipschitz constants of Lemmas 3 and 4.
+    theta_error : ‖θ̂ - θ‖ (default: the one the trajectory recorded).
+
+    Returns
+    -------
+    Margins
+        margins for t = N..T-2.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory is not one of Algorithm 2 with V_M recorded, has failed steps, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks, theory
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)                           # α_lo, ᾱ, γ̄, a, γ_c
+    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)     # α_V, α_κ, α_c, α_f S
+    >>> at = theory.alpha_f_tilde(L.alpha_f_S, 8)
+    >>> etc = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
+    ...                                theta_true=[1.2, 1.0])
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, etc, ex.x0, w, 50)
+    >>> lemma4 = checks.lemma4_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar, L.alpha_V,
+    ...                                L.alpha_kappa, L.alpha_c, at)
+    >>> lemma4.margin.shape, lemma4.holds()
+    ((44,), True)
     """
     traj, M, N, err, V, e = _algorithm2(traj, M, theta_error)
     GV = theory.Gamma_V(M, alpha_lo, alpha_hi)
@@ -79,6 +115,45 @@ def lemma5_margins(traj, M, H, a, alpha_lo, alpha_hi, gamma_bar, alpha_V, alpha_
     """Lemma 5 at every anchor t = N..T-1-H of the control phase: margin_t = bound_t - c_{t+H},
 
         bound_t = ᾱ a^H σ(x_t) + Σ_{j=t}^{t+H+M-2} M_{w,j} ‖w_j‖² + M_θ ‖θ̂ - θ‖   (:func:`orrc.theory.lemma5_bound`).
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 2 (``EstimateThenControl``) that recorded V_M.
+    M : the horizon of the control phase.
+    H : the look-ahead, M <= H.
+    a : the decay rate, in [min_decay_rate, 1).
+    alpha_lo, alpha_hi, gamma_bar : the constants α_lo, ᾱ, γ̄ of the true problem.
+    alpha_V, alpha_kappa, alpha_c, alpha_tilde_f : the Lipschitz constants of Lemmas 3 and 4.
+    theta_error : ‖θ̂ - θ‖ (default: the one the trajectory recorded).
+    eps_tilde : ε̃ (default ᾱ(1 - a)).
+
+    Returns
+    -------
+    Margins
+        margins for the anchors t = N..T-1-H.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory is not one of Algorithm 2 with V_M recorded, has failed steps, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks, theory
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)                           # α_lo, ᾱ, γ̄, a, γ_c
+    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)     # α_V, α_κ, α_c, α_f S
+    >>> at = theory.alpha_f_tilde(L.alpha_f_S, 8)
+    >>> etc = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
+    ...                                theta_true=[1.2, 1.0])
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, etc, ex.x0, w, 50)
+    >>> lemma5 = checks.lemma5_margins(traj, 8, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar, L.alpha_V,
+    ...                                L.alpha_kappa, L.alpha_c, at)
+    >>> lemma5.margin.shape, lemma5.holds()
+    ((37,), True)
     """
     traj, M, N, err, _, e = _algorithm2(traj, M, theta_error)
     H = as_int("H", H, minimum=1)
@@ -108,6 +183,45 @@ def theorem2_margin(traj, M, a, alpha_lo, alpha_hi, gamma_bar, gamma, alpha_V, a
 
     (:func:`orrc.theory.theorem2_constant`, computed for all T' at once). ``t`` holds T', ``actual`` the
     running R^p_{T'}(γ). Needs γ >= γ_c.
+
+    Parameters
+    ----------
+    traj : a :class:`~orrc.Trajectory` of Algorithm 2 (``EstimateThenControl``) that recorded V_M.
+    M : the horizon of the control phase.
+    a : the decay rate, in [min_decay_rate, 1).
+    gamma : the level, γ >= γ_c.
+    alpha_lo, alpha_hi, gamma_bar : the constants α_lo, ᾱ, γ̄ of the true problem.
+    alpha_V, alpha_kappa, alpha_c, alpha_tilde_f : the Lipschitz constants of Lemmas 3 and 4.
+    theta_error : ‖θ̂ - θ‖ (default: the one the trajectory recorded).
+    eps_tilde : ε̃ (default ᾱ(1 - a)).
+
+    Returns
+    -------
+    Margins
+        margins for T' = N+1..T.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the trajectory is not one of Algorithm 2 with V_M recorded, has failed steps, or a
+        constant is out of range.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks, theory
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)                           # α_lo, ᾱ, γ̄, a, γ_c
+    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)     # α_V, α_κ, α_c, α_f S
+    >>> at = theory.alpha_f_tilde(L.alpha_f_S, 8)
+    >>> etc = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
+    ...                                theta_true=[1.2, 1.0])
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, etc, ex.x0, w, 50)
+    >>> theorem2 = checks.theorem2_margin(traj, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar, k.gamma_c,
+    ...                                   L.alpha_V, L.alpha_kappa, L.alpha_c, at)
+    >>> theorem2.margin.shape, theorem2.holds()
+    ((45,), True)
     """
     traj, M, N, err, _, e = _algorithm2(traj, M, theta_error)
     T = traj.T

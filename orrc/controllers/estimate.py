@@ -22,6 +22,26 @@ class Excitation(Controller):
     ``excitation`` (T, m): the exciting inputs e_t (e.g. :func:`orrc.estimation.prbs`); ``gain`` K₀ (m, n)
     an optional prior stabilising feedback; ``input_bounds`` (lo, hi). No preview: it needs none. Run it in
     :func:`orrc.simulate` for at most T steps to collect the data of an estimation phase.
+
+    Parameters
+    ----------
+    excitation : (T, m) the exciting inputs e_t.
+    gain : (m, n) K₀, an optional prior stabilising feedback.
+    input_bounds : (lo, hi), the set U.
+    n : the state dimension (needed when ``gain`` is None and no system is known yet).
+    cost : the stage cost to record along the run.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc.controllers import Excitation
+    >>> from orrc.estimation import prbs
+    >>> di = orrc.examples.double_integrator()
+    >>> traj = orrc.simulate(di.system, Excitation(prbs(30, 1, seed=0), cost=di.cost), di.x0,
+    ...                      np.zeros((30, 2)), T=30)
+    >>> traj.u[:4, 0]
+    array([ 1.,  1., -1., -1.])
     """
 
     name = "excitation"

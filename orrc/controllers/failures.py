@@ -68,9 +68,20 @@ def _shift(rows: np.ndarray, k: int) -> np.ndarray:
 class FailureLadder:
     """The escalation policy of one receding-horizon controller (see the module docstring).
 
+    Parameters
+    ----------
     M : the horizon (a successful plan can be shifted for up to M-1 steps).
     max_failures : consecutive failed steps tolerated before :class:`~orrc.SolverError`; None: never stop.
     name : the controller's name, for the messages.
+
+    Examples
+    --------
+    Every receding-horizon controller holds one; ``PreviewRHC(..., max_failures=5)`` sets its limit:
+
+    >>> from orrc.controllers import FailureLadder
+    >>> ladder = FailureLadder(M=10, max_failures=5, name="preview RHC")
+    >>> ladder.M, ladder.max_failures
+    (10, 5)
     """
 
     def __init__(self, M: int, max_failures: int | None = DEFAULT_MAX_FAILURES, name: str = "controller"):

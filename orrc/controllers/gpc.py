@@ -57,6 +57,30 @@ def strong_stability(A_cl) -> tuple[float, float]:
     Certificate: 1 − γ = (1 + ρ(A_cl))/2 and P solving (A_cl/(1−γ))ᵀ P (A_cl/(1−γ)) − P + I = 0
     (``scipy.linalg.solve_discrete_lyapunov``), so A_clᵀPA_cl ⪯ (1−γ)²P; with H = P^{-½},
     L = P^{½}A_cl P^{-½} has ‖L‖ <= 1 − γ and κ = √cond(P).
+
+    Parameters
+    ----------
+    A_cl : (n, n) a stable closed-loop matrix A − BK.
+
+    Returns
+    -------
+    tuple of float
+        (κ, γ).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When A_cl is not stable (ρ(A_cl) >= 1) or malformed.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.controllers import gpc
+    >>> di = orrc.examples.double_integrator()
+    >>> K = orrc.LQR(di.system, di.cost).K
+    >>> kappa, gamma = gpc.strong_stability(di.system.A - di.system.B @ K)
+    >>> bool(kappa >= 1 and 0 < gamma < 1)
+    True
     """
     from scipy import linalg
 
@@ -306,6 +330,37 @@ def best_fixed_policy(system: LinearSystem, cost: QuadraticCost, w, T: int, H: i
     policy is a convex quadratic ‖Fθ + f‖² in θ = vec M (exact rollout). Unconstrained: a least-
     squares solve; when that minimiser leaves 𝓜, the constrained minimum is solved with cvxpy
     (Clarabel). Returns (M (H, m, n), the total cost of the policy, recomputed by a rollout).
+
+    Parameters
+    ----------
+    system : a :class:`~orrc.LinearSystem`.
+    cost : its :class:`~orrc.QuadraticCost`.
+    w : (L, n) the disturbances, L >= T.
+    T : the horizon.
+    H : the memory of the policy class.
+    K : the stabilising gain (default: the LQR gain).
+    x0 : the initial state (default 0).
+    bounds : (H,) the bounds on ‖M_i‖₂ (default: none).
+
+    Returns
+    -------
+    tuple
+        M (H, m, n), the best fixed policy, and its total cost Σ_{t<T} c_t (recomputed by a rollout).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When an argument is malformed or the problem exceeds the size limits.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.controllers import gpc
+    >>> di = orrc.examples.double_integrator()
+    >>> w = orrc.disturbances.uniform_ball(40, 2, 0.1, seed=0)
+    >>> M, total = gpc.best_fixed_policy(di.system, di.cost, w, T=30, H=3)
+    >>> M.shape
+    (3, 1, 2)
     """
     _linear_problem("best_fixed_policy", system, cost)
     n, m = system.n, system.m

@@ -53,6 +53,26 @@ def preview_buffer_system(A, B, Q, k: int):
     """(Ā, B̄, Q̄, Ē) of the system augmented with a preview buffer of k disturbances (k >= 1).
 
     ξ = [x; w_t; ...; w_{t+k-1}], ξ⁺ = Āξ + B̄u + Ēv with v = w_{t+k}; cost weight Q̄ = diag(Q, 0).
+
+    Parameters
+    ----------
+    A, B, Q : the system and its state weight.
+    k : the number of buffered disturbances, >= 1.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Ā (n(k+1), n(k+1)), B̄ (n(k+1), m), Q̄ (n(k+1), n(k+1)), Ē (n(k+1), n).
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.controllers import gpc
+    >>> di = orrc.examples.double_integrator()
+    >>> from orrc.controllers import hinf
+    >>> A_bar, B_bar, Q_bar, E_bar = hinf.preview_buffer_system(di.system.A, di.system.B, di.cost.Q, 2)
+    >>> A_bar.shape, E_bar.shape
+    ((6, 6), (6, 2))
     """
     n, m = B.shape
     N = n * (k + 1)

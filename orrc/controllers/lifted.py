@@ -15,6 +15,25 @@ def lifted_cost(cost: StageCost, C: np.ndarray) -> StageCost:
 
     A :class:`~orrc.QuadraticCost` (Q, R) becomes QuadraticCost(CᵀQC, R) (so a lifted linear model
     keeps the exact LQ path); any other cost is wrapped as a CasADi :class:`~orrc.Cost`.
+
+    Parameters
+    ----------
+    cost : the stage cost c(x, u).
+    C : (n, K) the projection x = C z.
+
+    Returns
+    -------
+    StageCost
+        c_z; a :class:`~orrc.QuadraticCost` when ``cost`` is one.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc.controllers import lifted
+    >>> di = orrc.examples.double_integrator()
+    >>> type(lifted.lifted_cost(di.cost, np.eye(2))).__name__
+    'QuadraticCost'
     """
     n, K = C.shape
     if isinstance(cost, QuadraticCost):

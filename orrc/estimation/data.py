@@ -45,7 +45,14 @@ class RankWarning(UserWarning):
 
 
 class Transitions(NamedTuple):
-    """Pooled transitions: ``x`` (N, n), ``u`` (N, m), ``w`` (N, n) or None, ``x_next`` (N, n).
+    """Pooled transitions of Algorithm 2's data D = {(x_{k+1}, x_k, u_k, w_k)}.
+
+    Attributes
+    ----------
+    x : (N, n) the states x_k.
+    u : (N, m) the inputs u_k.
+    w : (N, n) the disturbances w_k, or None.
+    x_next : (N, n) the next states x_{k+1}.
 
     Examples
     --------

@@ -239,6 +239,15 @@ class EDMDModel(Estimate):
     ``theta`` is vec([A B E]) row by row; ``rank``/``rank_needed`` those of the regression matrix
     [ψ(x_k); u_k; w_k]; ``residual`` the RMS one-step residual of x (not of z).
 
+    Attributes
+    ----------
+    A : (K, K) the lifted dynamics.
+    B : (K, m) the input matrix.
+    E : (K, n) the disturbance matrix (zero when fitted without W).
+    C : (n, K) the projection x = C z.
+
+    The other attributes are those of :class:`~orrc.estimation.Estimate`.
+
     Examples
     --------
     >>> import numpy as np

@@ -27,6 +27,13 @@ class LinearEstimate(Estimate):
     ``orrc.ParametricSystem.linear(n, m)`` orders it); ``error`` = ‖[Â - A, B̂ - B]‖_F when the
     true system was given.
 
+    Attributes
+    ----------
+    A : (n, n) the estimate Â.
+    B : (n, m) the estimate B̂.
+
+    The other attributes are those of :class:`~orrc.estimation.Estimate`.
+
     Examples
     --------
     >>> import numpy as np

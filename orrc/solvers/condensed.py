@@ -31,7 +31,28 @@ __all__ = ["Condensed", "condensed"]
 
 @dataclass
 class Condensed:
-    """The operators of the T-step problem with u = −Kx + v (see the module docstring)."""
+    """The operators of the T-step problem with u = −Kx + v (see the module docstring).
+
+    Attributes
+    ----------
+    T : the horizon.
+    K : (m, n) the pre-stabilising gain.
+    F, G : (T n, T m), (T n, T n) the stacked states x = F v + G w.
+    F_u, G_u : (T m, T m), (T m, T n) the stacked inputs u = F_u v + G_u w.
+    S : (T m, T m) the Hessian of the cost in v; ``S_half`` its square root.
+    Phi_star : (T m, T n) the clairvoyant operator, v* = Φ* w.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import condensed, regret
+    >>> c = condensed.condensed(A, B, Q, R, T=10)
+    >>> c.S.shape, c.Phi_star.shape    # (T m, T m), (T m, T n)
+    ((10, 10), (10, 20))
+    """
 
     T: int
     K: np.ndarray
@@ -56,7 +77,36 @@ class Condensed:
 
 def condensed(A, B, Q, R, T: int, K=None, who: str = "the condensed T-step problem") -> Condensed:
     """The condensed operators of the T-step problem (K: the pre-stabilising gain, default 0), after
-    :func:`orrc._validate.check_size` (``who`` names the computation in its message)."""
+    :func:`orrc._validate.check_size` (``who`` names the computation in its message).
+
+    Parameters
+    ----------
+    A, B, Q, R : the linear-quadratic problem.
+    T : the horizon.
+    K : the pre-stabilising gain (default 0).
+    who : the computation, named in the size check's message.
+
+    Returns
+    -------
+    Condensed
+        the T-step operators (``F``, ``G``, ``S``, ``Phi_star``, ...).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the matrices are malformed or the computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import condensed, regret
+    >>> c = condensed.condensed(A, B, Q, R, T=10)
+    >>> c.T, c.F.shape, c.G.shape
+    (10, (20, 10), (20, 20))
+    """
     n, m = B.shape
     N, P = T * n, T * m
     # the dense (T n)² and (T m)² operators with their temporaries; the loop over T²/2 blocks (three numpy

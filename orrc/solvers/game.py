@@ -53,11 +53,25 @@ __all__ = ["GameSolution", "finite_horizon_game", "stationary_game", "optimal_ga
 class GameSolution:
     """The saddle point of the linear-quadratic game at level ``gamma``.
 
+    Attributes
+    ----------
     gamma : the level (the paper's convention: the weight of ‖w‖², a squared gain).
     P : [P_0, ..., P_M] (finite horizon) or [P] (stationary); the value is x'P_0 x.
     K : the minimiser's gains, u_j = −K_j x_j ([K_0..K_{M-1}], or [K]).
     Kw : the maximiser's worst-case gains, w_j = Kw_j x_j ([Kw_0..Kw_{M-1}], or [Kw]).
     stationary : True for :func:`stationary_game`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import game
+    >>> level = game.optimal_game_level(A, B, Q, R)
+    >>> solution = game.stationary_game(A, B, Q, R, 1.1 * level)
+    >>> solution.stationary, len(solution.P), solution.K[0].shape
+    (True, 1, (1, 2))
     """
 
     gamma: float
@@ -108,7 +122,34 @@ def _gamma(gamma) -> float:
 
 def check_stabilisable(A, B, what: str = "(A, B)") -> None:
     """Raise :class:`~orrc.OrrcValueError` unless (A, B) is stabilisable (discrete time, PBH test:
-    rank [A − λI, B] = n for every eigenvalue |λ| >= 1)."""
+    rank [A − λI, B] = n for every eigenvalue |λ| >= 1).
+
+    Parameters
+    ----------
+    A, B : the system matrices.
+    what : the pair's name in the message.
+
+    Returns
+    -------
+    None
+        when (A, B) is stabilisable.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a mode with |λ| >= 1 cannot be moved by the input.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc.solvers import game
+    >>> try:
+    ...     game.check_stabilisable(np.diag([2.0, 0.5]), np.array([[0.0], [1.0]]))
+    ... except orrc.OrrcValueError as err:
+    ...     print(str(err)[:30])
+    (A, B) is not stabilisable: th
+    """
     A = as_square("A", A)
     n = A.shape[0]
     B = as_array("B", B, (n, None))
@@ -193,6 +234,36 @@ def finite_horizon_game(A, B, Q, R, gamma, M, Pf=None, E=None) -> GameSolution:
     γI − EᵀP_{j+1}E ≻ 0 at every j (the maximiser's problem concave): otherwise raises
     :class:`~orrc.OrrcValueError` naming gamma and the smallest admissible level (found by
     bisection: the recursion is monotone in γ). ``E`` (n, q): how w enters (default I).
+
+    Parameters
+    ----------
+    A, B, Q, R : the linear-quadratic problem.
+    gamma : the level γ.
+    M : the horizon.
+    Pf : (n, n) an optional terminal weight.
+    E : (n, k) the disturbance's input matrix (default I).
+
+    Returns
+    -------
+    GameSolution
+        P_0..P_M and the players' gains K_j, Kw_j.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When γ is at or below the smallest admissible level, or the matrices are malformed.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import game
+    >>> level = game.optimal_game_level(A, B, Q, R)
+    >>> solution = game.finite_horizon_game(A, B, Q, R, 1.1 * level, M=5)
+    >>> len(solution.P), len(solution.K)
+    (6, 5)
     """
     A, B, Q, R, E = _problem(A, B, Q, R, E)
     gamma = _gamma(gamma)
@@ -290,6 +361,34 @@ def stationary_game(A, B, Q, R, gamma, E=None) -> GameSolution:
     stable). Then u = −Kx guarantees Σ(xᵀQx + uᵀRu) < γ Σ‖w‖² + x_0ᵀPx_0 for every w (Başar and
     Bernhard 1995, Theorem 3.7). Raises :class:`~orrc.OrrcValueError` below the optimal level
     (naming it) and for an unstabilisable (A, B).
+
+    Parameters
+    ----------
+    A, B, Q, R : the linear-quadratic problem.
+    gamma : the level γ, above :func:`optimal_game_level`.
+    E : (n, k) the disturbance's input matrix (default I).
+
+    Returns
+    -------
+    GameSolution
+        the stabilising P, the gains K, Kw (``stationary`` True).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When γ is at or below the optimal level, (A, B) is not stabilisable, or the solution cannot
+        be certified.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import game
+    >>> level = game.optimal_game_level(A, B, Q, R)
+    >>> game.stationary_game(A, B, Q, R, 1.1 * level).K[0].round(4)
+    array([[11.8338,  7.7309]])
     """
     A, B, Q, R, E = _problem(A, B, Q, R, E)
     gamma = _gamma(gamma)
@@ -339,6 +438,34 @@ def optimal_game_level(A, B, Q, R, tol: float = 1e-9, E=None, with_error: bool =
 
     The bisection starts from the non-causal level and λ_max(EᵀP_LQR E) (P_game ⪰ P_LQR and γ must
     exceed λ_max(EᵀP_game E)); the upper end is found by doubling.
+
+    Parameters
+    ----------
+    A, B, Q, R : the linear-quadratic problem.
+    tol : the bisection's relative tolerance.
+    E : (n, k) the disturbance's input matrix (default I).
+    with_error : also return the level's error bound.
+
+    Returns
+    -------
+    float or tuple
+        γ* (certified feasible), or (γ*, error bound) with ``with_error``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When (A, B) is not stabilisable or the matrices are malformed.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import game
+    >>> level = game.optimal_game_level(A, B, Q, R)
+    >>> print(round(level, 3))
+    48.881
     """
     A, B, Q, R, E = _problem(A, B, Q, R, E)
     tol = as_float("tol", tol, minimum=0.0, strict_min=True)

@@ -34,6 +34,28 @@ def riccati_step(A, B, P_next, Q, R):
 
     S_j = R_j + Bᵀ P_{j+1} B,  K_j = S_j⁻¹ Bᵀ P_{j+1} A,  P_j = Q_j + Aᵀ P_{j+1} (A - B K_j)
     (symmetrised). R_j must be positive definite (validated where cost data enter).
+
+    Parameters
+    ----------
+    A, B : the system matrices (n, n), (n, m).
+    P_next : (n, n) P_{j+1}.
+    Q, R : the stage weights (n, n), (m, m).
+
+    Returns
+    -------
+    tuple
+        P_j (n, n), K_j (m, n) and S_j⁻¹ (m, m).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import lq
+    >>> P, K, S_inv = lq.riccati_step(A, B, np.zeros((2, 2)), Q, R)   # the last step: P_j = Q, K_j = 0
+    >>> bool(np.allclose(P, Q)), K.shape
+    (True, (1, 2))
     """
     BtP = B.T @ P_next
     Sinv = np.linalg.inv(R + BtP @ B)
@@ -44,7 +66,32 @@ def riccati_step(A, B, P_next, Q, R):
 
 def riccati_steps_size(what: str, steps: int, n: int, m: int, stored: int = 3) -> None:
     """:func:`orrc._validate.check_size` for ``steps`` backward Riccati steps keeping ``stored``
-    small matrices per step (0 when only the current one is kept)."""
+    small matrices per step (0 when only the current one is kept).
+
+    Parameters
+    ----------
+    what : the computation, named in the message.
+    steps : the number of Riccati steps.
+    n, m : the dimensions.
+    stored : small matrices kept per step.
+
+    Returns
+    -------
+    None
+        when the computation is within the limits.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When it exceeds the limits of ``orrc.config`` (a :class:`~orrc.SizeWarning` above the
+        warning thresholds).
+
+    Examples
+    --------
+    >>> from orrc.solvers import lq
+    >>> lq.riccati_steps_size("a Riccati recursion", steps=100, n=2, m=1) is None
+    True
+    """
     check_size(what, nbytes=stored * (steps + 1) * (8.0 * (n * n + n * m) + ARRAY_OVERHEAD_BYTES),
                ops=steps * (_STEP_CALLS * PY_CALL_OPS + 6.0 * (n + m) ** 3), hint="lower the horizon")
 
@@ -52,7 +99,34 @@ def riccati_steps_size(what: str, steps: int, n: int, m: int, stored: int = 3) -
 def lq_law_size(M: int, n: int, m: int,
                 who: str = "the exact LQ preview law (u = -Kx - L vec W, V_M = zᵀHz)") -> None:
     """:func:`orrc._validate.check_size` for :class:`LQPreviewLaw` at the horizon M (also called by a
-    controller that builds the law later, e.g. Algorithm 2 at the end of its estimation phase)."""
+    controller that builds the law later, e.g. Algorithm 2 at the end of its estimation phase).
+
+    Parameters
+    ----------
+    M : the horizon.
+    n, m : the dimensions.
+    who : the computation, named in the message.
+
+    Returns
+    -------
+    None
+        when the law fits the limits.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When it exceeds the limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.solvers import lq
+    >>> try:
+    ...     lq.lq_law_size(10**6, 2, 1)
+    ... except orrc.OrrcValueError as err:
+    ...     print("refused")
+    refused
+    """
     N = M * n
     # D (N x N), H and [H; -[K L]] ((n+N)², (n+N+m)(n+N)) and one N x N temporary per step
     check_size(f"{who} at the horizon M={M} (n={n}, m={m})",
@@ -86,6 +160,36 @@ def solve(A, B, Qs, Rs, x, W, Pf=None):
 
     ``Qs`` (M, n, n), ``Rs`` (M, m, m) are the stage weights of the horizon
     (time-varying allowed); ``W`` (M, n) the previewed disturbances.
+
+    Parameters
+    ----------
+    A, B : the system matrices.
+    Qs : (M, n, n) the state weights of the horizon.
+    Rs : (M, m, m) the input weights.
+    x : (n,) the current state.
+    W : (M, n) the previewed disturbances.
+    Pf : (n, n) an optional terminal weight.
+
+    Returns
+    -------
+    tuple
+        U (M, m), X (M + 1, n) and V_M.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When the matrices are malformed or the computation exceeds the size limits of ``orrc.config``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import lq
+    >>> U, X, V = lq.solve(A, B, np.array([Q] * 5), np.array([R] * 5), np.array([1.0, 0.0]), np.zeros((5, 2)))
+    >>> U.shape, X.shape, round(V, 4)
+    ((5, 1), (6, 2), 4.9199)
     """
     M = len(Qs)
     P, K, Sinv = _backward_gains(A, B, Qs, Rs, Pf)
@@ -131,6 +235,24 @@ class LQPreviewLaw:
     L : (m, M n)       feed-forward on vec(w_t, ..., w_{t+M-1})
     H : (n+Mn, n+Mn)   V_M(x, W) = zᵀ H z with z = [x; vec W]
     P : list of P_j    the Riccati matrices P_0..P_M
+
+    Parameters
+    ----------
+    A, B : the system matrices (n, n), (n, m).
+    Q, R : the stage weights.
+    M : the horizon.
+    Pf : (n, n) an optional terminal weight.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import lq
+    >>> law = lq.LQPreviewLaw(A, B, Q, R, 5)
+    >>> law.K.shape, law.L.shape, law.H.shape
+    ((1, 2), (1, 10), (12, 12))
     """
 
     def __init__(self, A, B, Q, R, M, Pf=None):

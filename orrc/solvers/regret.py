@@ -49,7 +49,34 @@ LEVEL_SLACK = 1e-10
 
 
 def causal_factor(S: np.ndarray) -> np.ndarray:
-    """Δ lower triangular with ΔᵀΔ = S (S symmetric positive definite): Δ = J Lᵀ J, L = chol(J S J)."""
+    """Δ lower triangular with ΔᵀΔ = S (S symmetric positive definite): Δ = J Lᵀ J, L = chol(J S J).
+
+    Parameters
+    ----------
+    S : (k, k) symmetric positive definite.
+
+    Returns
+    -------
+    numpy.ndarray
+        (k, k) Δ, lower triangular, ΔᵀΔ = S.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When S is not symmetric positive definite.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import condensed, regret
+    >>> c = condensed.condensed(A, B, Q, R, T=10)
+    >>> Delta = regret.causal_factor(c.S)
+    >>> bool(np.allclose(Delta.T @ Delta, c.S)), bool(np.allclose(Delta, np.tril(Delta)))
+    (True, True)
+    """
     try:
         L = np.linalg.cholesky(S[::-1, ::-1])
     except np.linalg.LinAlgError as exc:
@@ -60,7 +87,30 @@ def causal_factor(S: np.ndarray) -> np.ndarray:
 
 def arveson_distance(Z: np.ndarray, T: int, m: int, n: int) -> float:
     """γ* = max_k ‖Z[block rows 0..k, block columns k..T−1]‖₂: the distance from Z (T m, T n) to the
-    strictly block-lower-triangular matrices (module docstring, step 2)."""
+    strictly block-lower-triangular matrices (module docstring, step 2).
+
+    Parameters
+    ----------
+    Z : (T m, T n) the operator.
+    T, m, n : its block structure.
+
+    Returns
+    -------
+    float
+        γ*, the distance to the strictly causal operators.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import condensed, regret
+    >>> c = condensed.condensed(A, B, Q, R, T=10)
+    >>> Z = regret.causal_factor(c.S) @ c.Phi_star
+    >>> print(round(regret.arveson_distance(Z, 10, 1, 2), 4))
+    2.4852
+    """
     return max(np.linalg.norm(Z[:(k + 1) * m, k * n:], 2) for k in range(T))
 
 
@@ -68,7 +118,38 @@ def parrott_completion(Z: np.ndarray, T: int, m: int, n: int, gamma: float) -> n
     """E with E = Z on and above the block diagonal and ‖E‖₂ <= gamma, its strictly lower blocks filled
     by Parrott's central choice one block row at a time (module docstring, step 3); needs gamma above
     Arveson's distance of Z (else an :class:`~orrc.OrrcValueError`: a Cholesky factor that fails, or a
-    completion whose norm exceeds gamma)."""
+    completion whose norm exceeds gamma).
+
+    Parameters
+    ----------
+    Z : (T m, T n) the operator.
+    T, m, n : its block structure.
+    gamma : the norm bound, above Arveson's distance.
+
+    Returns
+    -------
+    numpy.ndarray
+        (T m, T n) E, with ‖E‖₂ <= gamma.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When gamma is not above Arveson's distance of Z.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import condensed, regret
+    >>> c = condensed.condensed(A, B, Q, R, T=10)
+    >>> Z = regret.causal_factor(c.S) @ c.Phi_star
+    >>> gamma = 1.01 * regret.arveson_distance(Z, 10, 1, 2)
+    >>> E = regret.parrott_completion(Z, 10, 1, 2, gamma)
+    >>> bool(np.linalg.norm(E, 2) <= gamma * (1 + 1e-9))
+    True
+    """
     E = Z.copy()
     g2 = gamma * gamma
     for t in range(1, T):
@@ -90,7 +171,36 @@ def parrott_completion(Z: np.ndarray, T: int, m: int, n: int, gamma: float) -> n
 
 def regret_optimal_operator(S: np.ndarray, Phi_star: np.ndarray, T: int, m: int, n: int):
     """(Φ, γ*²): a strictly block-lower-triangular Φ (T m, T n) whose regret operator S^½(Φ − Φ*) has
-    norm γ*(1 + LEVEL_SLACK), and the optimal worst-case regret γ*² (module docstring)."""
+    norm γ*(1 + LEVEL_SLACK), and the optimal worst-case regret γ*² (module docstring).
+
+    Parameters
+    ----------
+    S : (T m, T m) the regret weight.
+    Phi_star : (T m, T n) the clairvoyant operator Φ*.
+    T, m, n : the block structure.
+
+    Returns
+    -------
+    tuple
+        Φ (T m, T n), strictly block-lower-triangular, and the optimal worst-case regret γ*².
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When S is not positive definite or the sizes do not match.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> di = orrc.examples.double_integrator()
+    >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
+    >>> from orrc.solvers import condensed, regret
+    >>> c = condensed.condensed(A, B, Q, R, T=10)
+    >>> Phi, value = regret.regret_optimal_operator(c.S, c.Phi_star, 10, 1, 2)
+    >>> Phi.shape, round(float(value), 4)
+    ((10, 20), 6.1764)
+    """
     Delta = causal_factor(S)
     Z = Delta @ Phi_star
     gamma_star = arveson_distance(Z, T, m, n)

@@ -19,11 +19,29 @@ __all__ = ["claim", "ClaimError", "ClaimWarning"]
 
 
 class ClaimError(AssertionError):
-    """A statement of the text that the chapter's own numbers contradict (the book's build)."""
+    """A statement of the text that the chapter's own numbers contradict (the book's build).
+
+    Examples
+    --------
+    >>> from orrc.viz import ClaimError
+    >>> issubclass(ClaimError, AssertionError)
+    True
+    """
 
 
 class ClaimWarning(UserWarning):
-    """A statement of the text that does not hold for the parameters a reader chose."""
+    """A statement of the text that does not hold for the parameters a reader chose.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> import orrc.viz
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     orrc.viz.claim(False, "the cost decreases")
+    >>> caught[0].category is orrc.viz.ClaimWarning
+    True
+    """
 
 
 NOTE = ("For these parameters the text's statement no longer holds: \u201c{statement}\u201d. "
@@ -48,7 +66,38 @@ def claim(condition, statement: str, why: str | None = None) -> None:
     In the book's build a false claim raises :class:`ClaimError` (the build fails with
     ``statement``); elsewhere it shows a one-line note naming the statement and goes on (see
     the module docstring). ``why``: an optional sentence appended to the note (why the statement
-    depends on the parameters, e.g. "a shorter horizon need not satisfy the threshold")."""
+    depends on the parameters, e.g. "a shorter horizon need not satisfy the threshold").
+
+    Parameters
+    ----------
+    condition : what the numbers must satisfy (a bool, or numpy's).
+    statement : the claim as the text words it.
+    why : an optional sentence for the note.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ClaimError
+        In the book's build, when ``condition`` is false.
+    orrc.OrrcValueError
+        When ``statement`` is not a non-empty string.
+
+    Examples
+    --------
+    Outside the book's build a statement that no longer holds warns:
+
+    >>> import warnings
+    >>> import orrc.viz
+    >>> orrc.viz.claim(2 > 1, "two is more than one")
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     orrc.viz.claim(1 > 2, "one is more than two")
+    >>> [w.category.__name__ for w in caught]
+    ['ClaimWarning']
+    """
     from .. import config
     from .._validate import OrrcValueError
 

@@ -41,7 +41,23 @@ def _command(name: str) -> str:
 def plain(text: str) -> str:
     """``text`` with its mathtext spans read as plain text: ``$\\bar\\gamma_{c}$`` -> ``γ̄_c`` (an accent is
     kept as a combining mark on its letter), ``$c_s^{\\rm known}$`` -> ``c_s^known``, ``$\\varphi_t$`` ->
-    ``φ_t``; line breaks become spaces."""
+    ``φ_t``; line breaks become spaces.
+
+    Parameters
+    ----------
+    text : a label, possibly with mathtext.
+
+    Returns
+    -------
+    str
+        the plain reading.
+
+    Examples
+    --------
+    >>> from orrc.viz.describe import plain
+    >>> plain("$\\\\gamma_c$ against $M$")
+    'γ_c against M'
+    """
     def accent(m):
         body = math(m.group(2) if m.group(2) is not None else m.group(3), top=False)
         return body + _ACCENTS[m.group(1)] if body else body
@@ -103,7 +119,29 @@ def _panel(ax) -> str:
 def describe(fig) -> str:
     """A short text alternative of a matplotlib figure, from its titles, axis labels, scales and
     series names (call it before the figure is rendered and closed). Colour bars and axes without
-    anything drawn are left out; twin axes are described with their panel."""
+    anything drawn are left out; twin axes are described with their panel.
+
+    Parameters
+    ----------
+    fig : a matplotlib figure, before it is rendered and closed.
+
+    Returns
+    -------
+    str
+        the text alternative.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(7, 3))
+    >>> ax = fig.add_subplot()
+    >>> _ = ax.plot([0, 1, 2], [1, 0, 2], label="cost")
+    >>> _ = ax.set(xlabel="t", title="A run")
+    >>> _ = ax.legend()
+    >>> from orrc.viz.describe import describe
+    >>> describe(fig)
+    'A run: t on the horizontal axis; series: cost.'
+    """
     from .legibility import _figure_arg
 
     fig = _figure_arg("fig", fig)
@@ -130,6 +168,29 @@ def describe(fig) -> str:
 
 
 def frame_description(kwargs: dict, fig) -> str:
-    """The text alternative of one frame of an explorer: its parameter values, then :func:`describe`."""
+    """The text alternative of one frame of an explorer: its parameter values, then :func:`describe`.
+
+    Parameters
+    ----------
+    kwargs : the frame's parameter values.
+    fig : the frame's figure.
+
+    Returns
+    -------
+    str
+        the parameter values, then :func:`describe`.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(7, 3))
+    >>> ax = fig.add_subplot()
+    >>> _ = ax.plot([0, 1, 2], [1, 0, 2], label="cost")
+    >>> _ = ax.set(xlabel="t", title="A run")
+    >>> _ = ax.legend()
+    >>> from orrc.viz.describe import frame_description
+    >>> frame_description({"M": 5}, fig)
+    'Frame with M = 5. A run: t on the horizontal axis; series: cost.'
+    """
     values = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in kwargs.items())
     return f"Frame with {values}. {describe(fig)}"

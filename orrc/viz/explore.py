@@ -81,6 +81,24 @@ class Explorer:
     alternatives (key -> :func:`orrc.viz.describe.frame_description`: the frame's parameter values and
     what the figure shows) and ``html`` their HTML (None without static frames); ``view``: the :class:`orrc.viz.live.LiveView` and ``widget`` its
     ipywidget (None without the live widget).
+
+    Parameters
+    ----------
+    plot, params, initial, dpi, live, static : as :func:`explore` resolves them.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> import orrc.viz
+    >>> def plot(M):
+    ...     fig = Figure(figsize=(4, 3))
+    ...     ax = fig.add_subplot()
+    ...     ax.plot(range(M))
+    ...     ax.set_title(f"M = {M}")
+    ...     return fig
+    >>> explorer = orrc.viz.explore(plot, M=[2, 5])
+    >>> type(explorer).__name__, sorted(explorer.frames)
+    ('Explorer', ['images', 'narrow'])
     """
 
     def __init__(self, plot, params: dict, initial: dict, dpi: int, live: bool, static: bool):
@@ -159,6 +177,42 @@ def explore(plot, dpi: int = DPI, live: bool | None = None, initial: dict | None
     build); ``static``: render the static frames (default: in the book's build,
     ``orrc.config.book_build()``, and wherever there is no live widget). Keep grids small (a few
     values each): every combination is two precomputed images (wide and narrow) in the book.
+
+    Parameters
+    ----------
+    plot : a function of the grid's parameters returning a matplotlib figure.
+    dpi : the resolution, >= 100.
+    live : make the live widget (default: in a Jupyter kernel, not in the book's build).
+    initial : the values shown first.
+    static : render the static frames (default: in the book's build and wherever there is no widget).
+    **params : name -> the list of its values.
+
+    Returns
+    -------
+    Explorer
+        displays as the live widget or the precomputed frames.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``plot`` is not callable, a grid is empty, ``initial`` names a value not in its grid, or
+        the frames exceed the size limits.
+
+    Examples
+    --------
+    Outside a kernel the frames are precomputed, two renderings each:
+
+    >>> from matplotlib.figure import Figure
+    >>> import orrc.viz
+    >>> def plot(M):
+    ...     fig = Figure(figsize=(4, 3))
+    ...     ax = fig.add_subplot()
+    ...     ax.plot(range(M))
+    ...     ax.set_title(f"M = {M}")
+    ...     return fig
+    >>> explorer = orrc.viz.explore(plot, M=[2, 5])
+    >>> len(explorer.frames["images"]), explorer.view is None
+    (2, True)
     """
     from .. import config
 

@@ -46,7 +46,38 @@ def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True, f
     (else exactly the figure's size); ``close``: close it afterwards (a figure made with
     pyplot); ``fast``: full colour and the lightest compression instead (about twice as fast,
     twice the bytes: for a live widget, where the image never leaves the machine; at the figure's
-    size, ``tight=False``, drawn once instead of twice: :func:`_agg_png`)."""
+    size, ``tight=False``, drawn once instead of twice: :func:`_agg_png`).
+
+    Parameters
+    ----------
+    fig : a matplotlib figure.
+    dpi : the resolution, >= 100.
+    close, tight, fast : see above.
+
+    Returns
+    -------
+    bytes
+        the PNG file's bytes.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``fig`` is not a matplotlib figure or ``dpi`` is below 100.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> import orrc.viz
+    >>> def plot(M):
+    ...     fig = Figure(figsize=(4, 3))
+    ...     ax = fig.add_subplot()
+    ...     ax.plot(range(M))
+    ...     ax.set_title(f"M = {M}")
+    ...     return fig
+    >>> png = orrc.viz.figure_to_png(plot(3), close=False)
+    >>> png[:8] == b"\\x89PNG\\r\\n\\x1a\\n"
+    True
+    """
     from .._validate import as_int
 
     fig = _figure_arg("fig", fig)
@@ -128,7 +159,37 @@ def render(fig, dpi: int = DPI, close: bool = True) -> tuple[bytes, bytes | None
     one size only). :func:`legible` first; a figure wider than :data:`WIDE_IN` is drawn at
     that width. The narrow PNG (:class:`narrowed`) is None for a figure already
     :data:`NARROW_IN` wide or less. Afterwards ``fig`` has its layout and size back (its
-    fonts stay raised, titles longer than the figure stay wrapped); it is closed when ``close``."""
+    fonts stay raised, titles longer than the figure stay wrapped); it is closed when ``close``.
+
+    Parameters
+    ----------
+    fig : a matplotlib figure.
+    dpi : the resolution, >= 100.
+    close : close the figure afterwards.
+
+    Returns
+    -------
+    tuple
+        (wide PNG bytes, narrow PNG bytes or None).
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``fig`` is not a matplotlib figure or ``dpi`` is below 100.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(7, 3))
+    >>> ax = fig.add_subplot()
+    >>> _ = ax.plot([0, 1, 2], [1, 0, 2], label="cost")
+    >>> _ = ax.set(xlabel="t", title="A run")
+    >>> _ = ax.legend()
+    >>> from orrc.viz import figures
+    >>> wide, narrow = figures.render(fig, close=False)
+    >>> figures._png_width(wide), figures._png_width(narrow)     # pixels: 7 in and 3.4 in at 100 dpi
+    (700, 340)
+    """
     from .._validate import as_int
 
     fig = _figure_arg("fig", fig)
@@ -146,7 +207,36 @@ def render(fig, dpi: int = DPI, close: bool = True) -> tuple[bytes, bytes | None
 def render_live(fig, dpi: int = DPI, close: bool = True) -> bytes:
     """The wide PNG of :func:`render` alone, rendered fast (``figure_to_png(fast=True)``): the image a
     live widget shows (a notebook's column is a laptop's; the narrow variant is for the book's
-    phone readers). Same layout, size and fonts as the wide PNG of :func:`render`."""
+    phone readers). Same layout, size and fonts as the wide PNG of :func:`render`.
+
+    Parameters
+    ----------
+    fig : a matplotlib figure.
+    dpi : the resolution, >= 100.
+    close : close the figure afterwards.
+
+    Returns
+    -------
+    bytes
+        the wide PNG.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``fig`` is not a matplotlib figure or ``dpi`` is below 100.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(7, 3))
+    >>> ax = fig.add_subplot()
+    >>> _ = ax.plot([0, 1, 2], [1, 0, 2], label="cost")
+    >>> _ = ax.set(xlabel="t", title="A run")
+    >>> _ = ax.legend()
+    >>> from orrc.viz import figures
+    >>> figures.render_live(fig, close=False)[:4]
+    b'\\x89PNG'
+    """
     from .._validate import as_int
 
     fig = _figure_arg("fig", fig)
@@ -171,7 +261,31 @@ def picture_html(wide: bytes, small: bytes | None, alt: str | None = None, cls: 
     container is at least as wide as the wide image's natural width. ``alt``: the text
     alternative of both images (required: :func:`orrc.viz.describe.describe` writes one from the
     figure; ``""`` marks a decorative image). ``cls``: extra classes of both images
-    (``orrc-frame`` for the explorer)."""
+    (``orrc-frame`` for the explorer).
+
+    Returns
+    -------
+    str
+        the ``div.orrc-figure``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When an image is not PNG bytes, ``alt`` is not a string, or ``uid`` is not an HTML id.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(7, 3))
+    >>> ax = fig.add_subplot()
+    >>> _ = ax.plot([0, 1, 2], [1, 0, 2], label="cost")
+    >>> _ = ax.set(xlabel="t", title="A run")
+    >>> _ = ax.legend()
+    >>> from orrc.viz import figures
+    >>> wide, narrow = figures.render(fig, close=False)
+    >>> figures.picture_html(wide, narrow, alt="A run", uid="run")[:40]
+    '<div class="orrc-figure" id="run"><style'
+    """
     from .._validate import OrrcValueError
 
 
@@ -204,7 +318,37 @@ def picture_html(wide: bytes, small: bytes | None, alt: str | None = None, cls: 
 
 def figure_html(fig, dpi: int = DPI, close: bool = True) -> str:
     """The HTML form of a figure: :func:`render` into :func:`picture_html`, with the text
-    alternative :func:`orrc.viz.describe.describe` writes from the figure."""
+    alternative :func:`orrc.viz.describe.describe` writes from the figure.
+
+    Parameters
+    ----------
+    fig : a matplotlib figure.
+    dpi : the resolution, >= 100.
+    close : close the figure afterwards.
+
+    Returns
+    -------
+    str
+        the ``div.orrc-figure`` with both images.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``fig`` is not a matplotlib figure or ``dpi`` is below 100.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(7, 3))
+    >>> ax = fig.add_subplot()
+    >>> _ = ax.plot([0, 1, 2], [1, 0, 2], label="cost")
+    >>> _ = ax.set(xlabel="t", title="A run")
+    >>> _ = ax.legend()
+    >>> from orrc.viz import figures
+    >>> html = figures.figure_html(fig, close=False)
+    >>> html.startswith('<div class="orrc-figure"'), 'alt="A run: t on the horizontal axis' in html
+    (True, True)
+    """
     from .describe import describe
 
     alt = describe(fig)
@@ -214,7 +358,23 @@ def figure_html(fig, dpi: int = DPI, close: bool = True) -> str:
 def install(ip=None) -> bool:
     """Make :func:`figure_html` the ``text/html`` form of every matplotlib Figure in the
     IPython shell ``ip`` (the running one by default) and drop the plain PNG form, so a
-    figure cell's output is the wide and narrow pair. Returns False outside IPython."""
+    figure cell's output is the wide and narrow pair. Returns False outside IPython.
+
+    Parameters
+    ----------
+    ip : an IPython shell (default: the running one).
+
+    Returns
+    -------
+    bool
+        True when installed, False outside IPython.
+
+    Examples
+    --------
+    >>> from orrc.viz import figures
+    >>> figures.install()      # outside IPython, nothing to do
+    False
+    """
     if ip is None:
         try:
             from IPython import get_ipython

@@ -37,7 +37,32 @@ def legend_below(ax, fontsize: float = MIN_FONT_PT + 1, ncol: int = 1, **kw):
     """A frameless legend centred under the axes, below its tick labels and x label: the drop is
     in points (from their font sizes), not a fraction of the axes, so the legend clears the
     label at every figure height (the wide and the narrow rendering). Extra keywords go to
-    ``ax.legend`` (e.g. ``handles``)."""
+    ``ax.legend`` (e.g. ``handles``).
+
+    Parameters
+    ----------
+    ax : the axes.
+    fontsize : the legend's font size.
+    ncol : the number of columns.
+    **kw : further arguments of ``Axes.legend``.
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+        the legend.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(7, 3))
+    >>> ax = fig.add_subplot()
+    >>> _ = ax.plot([0, 1, 2], [1, 0, 2], label="cost")
+    >>> _ = ax.set(xlabel="t", title="A run")
+    >>> _ = ax.legend()
+    >>> from orrc.viz.legibility import legend_below
+    >>> legend_below(ax).get_frame_on()
+    False
+    """
     from matplotlib.transforms import ScaledTranslation
 
     ticks = [t.get_fontsize() for t in ax.get_xticklabels()] or [ax.xaxis.label.get_fontsize()]
@@ -119,7 +144,31 @@ def _tick_label_pt(axis, which: str) -> float:
 def legible(fig, min_pt: float = MIN_FONT_PT):
     """Raise every font of ``fig`` below ``min_pt`` points to ``min_pt`` (titles, labels,
     legends, annotations and tick labels) and tidy the tick labels (:func:`_tidy_ticks`).
-    Returns the figure."""
+    Returns the figure.
+
+    Parameters
+    ----------
+    fig : a matplotlib figure.
+    min_pt : the smallest font size, in points.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig`` itself.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(7, 3))
+    >>> ax = fig.add_subplot()
+    >>> _ = ax.plot([0, 1, 2], [1, 0, 2], label="cost")
+    >>> _ = ax.set(xlabel="t", title="A run")
+    >>> _ = ax.legend()
+    >>> from orrc.viz.legibility import legible
+    >>> _ = ax.set_xlabel("t", fontsize=6)
+    >>> legible(fig).axes[0].xaxis.label.get_fontsize()
+    9.0
+    """
     from matplotlib.text import Text
 
     from .._validate import as_float

@@ -109,6 +109,31 @@ class LiveView:
     frames were drawn on a move (``on_move``), ahead of the reader (``ahead``) and shown from the cache
     (``cached``). The attribute ``worker``: the :class:`orrc.viz.ahead.Worker` drawing ahead (None:
     none, or it is done); ``closed``: True once it draws nothing ahead any more (:meth:`close`).
+
+    Parameters
+    ----------
+    plot : the plotting function of :func:`orrc.viz.explore`.
+    params : name -> the list of its values.
+    initial : the values shown first.
+    dpi : the resolution.
+    ahead, worker : see above.
+
+    Examples
+    --------
+    Made by :func:`orrc.viz.explore` in a live kernel; by hand, without drawing ahead:
+
+    >>> from matplotlib.figure import Figure
+    >>> import orrc.viz
+    >>> def plot(M):
+    ...     fig = Figure(figsize=(4, 3))
+    ...     ax = fig.add_subplot()
+    ...     ax.plot(range(M))
+    ...     ax.set_title(f"M = {M}")
+    ...     return fig
+    >>> from orrc.viz.live import LiveView
+    >>> view = LiveView(plot, {"M": [2, 5]}, {"M": 2}, 100, ahead=False, worker=False)
+    >>> type(view.widget).__name__
+    'VBox'
     """
 
     def __init__(self, plot, params: dict, initial: dict, dpi: int, ahead: bool | None = None,

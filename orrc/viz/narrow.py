@@ -56,7 +56,29 @@ class narrowed:
     their panel), ``width`` inches wide and about ``panel_height`` inches per panel (plus room
     for titles and for legends below the axes), under the constrained layout; legends in one
     column; titles and the figure title wrapped to the width. A one-panel figure is only
-    narrowed."""
+    narrowed.
+
+    Parameters
+    ----------
+    fig : a matplotlib figure.
+    width : the narrow width, inches.
+    panel_height : the height per panel, inches.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(7, 3))
+    >>> ax = fig.add_subplot()
+    >>> _ = ax.plot([0, 1, 2], [1, 0, 2], label="cost")
+    >>> _ = ax.set(xlabel="t", title="A run")
+    >>> _ = ax.legend()
+    >>> from orrc.viz.narrow import narrowed
+    >>> with narrowed(fig):
+    ...     print(fig.get_size_inches())
+    [3.4 2.5]
+    >>> print(fig.get_size_inches())
+    [7. 3.]
+    """
 
     def __init__(self, fig, width: float = NARROW_IN, panel_height: float = PANEL_IN):
         from .._validate import as_float

@@ -27,7 +27,20 @@ __all__ = ["glue", "glued", "Quoted"]
 
 class Quoted:
     """A glued value formatted for the prose: ``repr`` (what a notebook shows as ``text/plain``)
-    is ``format(value, fmt)``, without quotes, as ``{glue:text}`key:fmt``` renders it."""
+    is ``format(value, fmt)``, without quotes, as ``{glue:text}`key:fmt``` renders it.
+
+    Parameters
+    ----------
+    key : the glued key.
+    value : the glued value.
+    fmt : a format specification (``".2f"``, ``".3g"``, ...).
+
+    Examples
+    --------
+    >>> from orrc.viz.notebook import Quoted
+    >>> Quoted("ratio", 0.123456, ".3f")
+    0.123
+    """
 
     __slots__ = ("key", "value", "fmt")
 
@@ -57,7 +70,15 @@ def _formatted(value, fmt: str) -> str:
 class Glued(dict):
     """Every value glued in this session, by key (a dict); ``glued(key, fmt)`` quotes one of them
     formatted for the prose (:class:`Quoted`), the form ``{eval}`glued("key", "fmt")``` of the
-    chapters' Markdown."""
+    chapters' Markdown.
+
+    Examples
+    --------
+    >>> import orrc.viz
+    >>> orrc.viz.glue("threshold", 5.0)
+    >>> orrc.viz.glued["threshold"], orrc.viz.glued("threshold", ".0f")
+    (5.0, 5)
+    """
 
     def __call__(self, key: str, fmt: str = "") -> Quoted:
         from .._validate import OrrcValueError
@@ -127,7 +148,32 @@ def glue(name: str, value, display: bool = False) -> None:
     myst-nb only stored in :data:`glued`). ``display=False`` (the book's default: the number
     appears where the prose quotes it, not where it is computed; in a live kernel one folded line
     under the cell still lists what it glued). Returns None, as myst-nb's ``glue`` (a cell that
-    ends with a glue shows no ``Out``)."""
+    ends with a glue shows no ``Out``).
+
+    Parameters
+    ----------
+    name : the key the prose quotes.
+    value : the value (a number, usually).
+    display : also show the value under the cell.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``name`` is not a non-empty string.
+
+    Examples
+    --------
+    A cell computes and glues; the prose quotes ``{eval}`glued("gamma-c", ".1f")```:
+
+    >>> import orrc.viz
+    >>> orrc.viz.glue("gamma-c", 572.8458)
+    >>> orrc.viz.glued("gamma-c", ".1f")
+    572.8
+    """
     from .._validate import OrrcValueError
 
     if not isinstance(name, str) or not name:

@@ -1,0 +1,219 @@
+"""The book's benchmarks page: the directive ``orrc-benchmarks`` renders the results file of ``make bench``.
+
+``benchmarks/run.py`` writes ``benchmarks/results.json`` (every row of its table with the seconds read
+from its orrc and peer cells, the machine, the library and peer versions, the load average). The
+directive reads that file when the book is built and renders, in this order: where and when it was
+measured, the versions, one figure per benchmark (orrc's time beside the peer's, case by case, on a
+log scale: the figures of the chapters, wide and narrow, with a text alternative written from the
+figure), and the whole table. The file is read at every build, so the page always shows the results
+committed with the sources; a missing or malformed file fails the build.
+
+Usage, in a MyST page::
+
+    ```{orrc-benchmarks}
+    ```
+
+with an optional argument, the results file relative to the book's root (default
+``benchmarks/results.json``).
+"""
+from __future__ import annotations
+
+import json
+import os
+import textwrap
+from pathlib import Path
+
+from docutils import nodes
+from docutils.parsers.rst import Directive
+from docutils.statemachine import StringList
+from sphinx.util.nodes import nested_parse_with_titles
+
+DEFAULT = "benchmarks/results.json"
+
+#: the section title of each benchmark module's rows, in the order of ``benchmarks/run.py``
+TITLES = {
+    "peers": "The pendulum's closed loop against the tools a user would pick",
+    "regret": "The regret-optimal controller at the literature's scale",
+    "pendulum": "One receding-horizon step on the nonlinear pendulum",
+    "closed_loop": "Nonlinear receding-horizon control in closed loop",
+    "lq": "The exact linear-quadratic closed loop",
+    "comparison": "The comparison chapter's table",
+    "minmax": "The min-max problem of Algorithm 3",
+    "widgets": "The explorers in a live kernel",
+}
+
+
+class BenchmarksError(ValueError):
+    """The results file is missing or not what ``benchmarks/run.py`` writes."""
+
+
+def load(path: Path) -> dict:
+    """The results file, checked for the keys the page reads."""
+    if not path.is_file():
+        raise BenchmarksError(f"no results file at {path}: run `make bench` (it writes benchmarks/results.json)")
+    doc = json.loads(path.read_text(encoding="utf-8"))
+    for key in ("date", "command", "machine", "versions", "rows"):
+        if key not in doc:
+            raise BenchmarksError(f"{path} has no {key!r}: it is not a results file of benchmarks/run.py")
+    return doc
+
+
+def _cell(text) -> str:
+    """A table cell's text as reStructuredText (literal markup characters escaped, one line)."""
+    s = " ".join(str(text if text is not None else "").split()) or "—"
+    for ch in "\\*`|_":
+        s = s.replace(ch, "\\" + ch)
+    # escaped characters are left alone by the smart-quotes pass ("--quick" stays two hyphens)
+    return s.replace("--", "\\-\\-").replace("...", "\\.\\.\\.")
+
+
+def _list_table(head: list[str], rows: list[list[str]], widths: list[int] | None = None) -> list[str]:
+    out = [".. list-table::", "   :header-rows: 1"]
+    if widths:
+        out.append("   :widths: " + " ".join(map(str, widths)))
+    out.append("")
+    for row in [head, *rows]:
+        out.append("   * - " + _cell(row[0]))
+        out += ["     - " + _cell(c) for c in row[1:]]
+    return out + [""]
+
+
+def groups(doc: dict) -> list[tuple[str, list[dict]]]:
+    """The rows by benchmark module, in the order they were run."""
+    order: dict[str, list[dict]] = {}
+    for row in doc["rows"]:
+        order.setdefault(row.get("module", "?"), []).append(row)
+    return list(order.items())
+
+
+def figure(module: str, rows: list[dict], width: float = 7.4):
+    """orrc's time and the peer's (median seconds) for every row of one benchmark that states a time,
+    as horizontal bars on a log scale, each pair labelled above its bars (so the labels fit a phone's
+    width as well as a laptop's); None when no row states a time."""
+    from matplotlib.figure import Figure
+
+    timed = [r for r in rows if r.get("orrc_seconds")]
+    if not timed:
+        return None
+    labels = [_short(r, width=int(12 * width)) for r in timed]
+    if len(set(labels)) < len(labels):   # the same case in two rows (e.g. first moves, per move): say which
+        labels = [_short(r, width=int(12 * width), distinct=_distinct(r["benchmark"], [t["benchmark"] for t in timed]))
+                  for r in timed]
+    fig = Figure(figsize=(width, 0.62 * len(timed) + 1.5))
+    ax = fig.add_subplot()
+    y = [1.4 * i for i in range(len(timed))]
+    h = 0.38
+    ax.barh([v - h / 2 for v in y], [r["orrc_seconds"] for r in timed], height=h, label="orrc", color="#1f6fb4")
+    peer = [(v, r["peer_seconds"]) for v, r in zip(y, timed) if r.get("peer_seconds")]
+    if peer:
+        ax.barh([v + h / 2 for v, _ in peer], [s for _, s in peer], height=h, label="peer or reference",
+                color="#d9822b")
+    ax.set_xscale("log")
+    lo = min([r["orrc_seconds"] for r in timed] + [s for _, s in peer])
+    for v, label in zip(y, labels):   # the case's name above its pair of bars
+        ax.text(lo / 1.5, v - h - 0.05, label, fontsize=9, va="bottom", ha="left")
+    ax.set_yticks([])
+    ax.set_ylim(y[-1] + 0.8, -1.2)
+    ax.set_xlim(left=lo / 2)
+    ax.set_xlabel("median time (s), log scale")
+    ax.set_title(textwrap.fill(TITLES.get(module, module), int(6.5 * width)))
+    fig.set_layout_engine("constrained")
+    fig.legend(loc="outside lower center", ncols=2, fontsize=9)
+    return fig
+
+
+def figure_html(module: str, rows: list[dict]) -> str | None:
+    """Both renderings of :func:`figure` (a laptop's and a phone's width) in one ``div.orrc-figure``, with
+    the text alternative written from the figure; None when the benchmark states no time."""
+    from orrc.viz.describe import describe
+    from orrc.viz.figures import NARROW_IN, WIDE_IN, picture_html, render
+
+    wide = figure(module, rows, WIDE_IN)
+    if wide is None:
+        return None
+    alt = describe(wide)
+    return picture_html(render(wide, close=False)[0], render(figure(module, rows, NARROW_IN), close=False)[0],
+                        alt=alt)
+
+
+def _short(row: dict, width: int = 34, distinct: str = "") -> str:
+    """A bar's label: the row's case (and what tells apart rows of the same case), shortened to fit."""
+    case = row["case"].split(";")[0].replace("orrc.simulate vs ", "vs ").strip()
+    if distinct:   # "preview_rhc #1 (M: 5, gamma: 3)" of "first moves ..." -> "preview_rhc #1: first moves"
+        case = f"{case.split(' (')[0]}: {' '.join(distinct.split()[:2])}"
+    return case if len(case) <= width else case[: width - 1] + "…"
+
+
+def _distinct(benchmark: str, all_benchmarks: list[str]) -> str:
+    """What sets ``benchmark`` apart from the others of its module: the text after their common prefix."""
+    prefix = os.path.commonprefix(sorted(set(all_benchmarks)))
+    return benchmark[len(prefix):].strip(" ,()") or benchmark
+
+
+class OrrcBenchmarks(Directive):
+    """``.. orrc-benchmarks:: [results file]``: the measured results of ``make bench``."""
+
+    optional_arguments = 1
+
+    def run(self):
+        env = self.state.document.settings.env
+        root = Path(env.app.confdir)
+        path = root / (self.arguments[0] if self.arguments else DEFAULT)
+        env.note_dependency(str(path))
+        try:
+            doc = load(path)
+        except (BenchmarksError, json.JSONDecodeError) as exc:
+            raise self.error(str(exc)) from exc
+        m = doc["machine"]
+        load_avg = m.get("load_average") or {}
+        rst = [
+            f"Measured on {_cell(doc['date'])} with ``{doc['command']}``"
+            + (" at the smoke-test sizes (``--quick``): these timings mean nothing" if doc.get("quick") else "")
+            + f", on {_cell(m.get('cpu'))} ({m.get('cores')} cores available; {_cell(m.get('platform'))}),"
+            f" BLAS thread pools {_cell(m.get('blas_threads'))}; load average {load_avg.get('start')} at the"
+            f" start and {load_avg.get('end')} at the end; {doc.get('seconds', '?')} s in all."
+            + (f" {len(doc['failures'])} check(s) failed or target(s) missed: "
+               + "; ".join(_cell(f) for f in doc["failures"]) + "." if doc.get("failures") else
+               " Every correctness check passed."),
+            "",
+            ".. rubric:: Versions",
+            "",
+            *_list_table(["library", "version"], [[k, v] for k, v in doc["versions"].items()], [50, 50]),
+        ]
+        parts: list = []   # reStructuredText lines, and figures as raw HTML nodes between them
+        for module, rows in groups(doc):
+            rst += [f".. rubric:: {_cell(TITLES.get(module, module))}", ""]
+            html = figure_html(module, rows)
+            if html is None:
+                rst += ["This benchmark compares results, not times: its rows are in the table below.", ""]
+            else:
+                parts += [rst, nodes.raw("", html, format="html")]
+                rst = []
+            met = sum(r.get("ok") is True for r in rows)
+            judged = sum(r.get("ok") is not None for r in rows)
+            rst += [f"{len(rows)} row(s); {met} of {judged} target(s) met." if judged else
+                    f"{len(rows)} row(s), none with a target.", ""]
+        rst += [".. rubric:: The whole table", ""]
+        rst += _list_table(["benchmark", "case", "orrc (median)", "peer (median)", "ratio", "target", "met",
+                            "correctness check"],
+                           [[r["benchmark"], r["case"], r["orrc"], r["peer"], r["ratio"], r["target"],
+                             "—" if r.get("ok") is None else ("yes" if r["ok"] else "no"), r.get("check", "")]
+                            for r in doc["rows"]])
+        parts.append(rst)
+        out = []
+        for part in parts:
+            if isinstance(part, nodes.Node):
+                out.append(part)
+                continue
+            fence = "`" * 6
+            node = nodes.section()
+            node.document = self.state.document
+            nested_parse_with_titles(self.state, StringList([f"{fence}{{eval-rst}}", *part, fence],
+                                                            source=f"<orrc-benchmarks {path.name}>"), node)
+            out += node.children
+        return out
+
+
+def setup(app):
+    app.add_directive("orrc-benchmarks", OrrcBenchmarks)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}
