@@ -31,6 +31,10 @@ from ._errors import NonFiniteWarning, OrrcValueError, SizeWarning  # noqa: F401
 from ._size_limits import (ARRAY_OVERHEAD_BYTES, OPS_PER_SECOND, PY_CALL_OPS, Limits, _fmt_bytes,  # noqa: F401
                            _fmt_ops, _LIMITS_ENV, check_size, get_limits, limit_value, use_limits)
 
+__all__ = ["OrrcValueError", "SizeWarning", "NonFiniteWarning", "as_array", "as_square", "as_int", "as_bool",
+           "as_float", "as_seed", "eigvalsh_tol", "check_psd", "check_options", "probe_points", "check_evaluates",
+           "Limits", "limit_value", "get_limits", "use_limits", "check_size", "check_finite_result", "finite_result"]
+
 
 # -- results of finite input must be finite -----------------------------------------------------------
 def _all_finite(out) -> bool:
