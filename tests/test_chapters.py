@@ -230,8 +230,8 @@ def _number(text: str) -> float:
 
 
 @pytest.mark.slow
-def test_the_van_der_pol_gamma_c_is_the_same_on_the_lemma1_and_theorem1_pages(book):
+def test_the_van_der_pol_gamma_c_is_the_same_on_the_lemma1_deeper_and_theorem1_pages(book):
     """Both pages estimate the Van der Pol constants at M = 40 by the same sampling (30 samples,
     seed 0), at both sizes, so they quote the same estimated γ_c."""
-    l1, t1 = glued("book/lemma1"), glued("book/theorem1")
+    l1, t1 = glued("book/lemma1_deeper"), glued("book/theorem1")
     assert _number(l1["l1-vdp-gc"]) == pytest.approx(_number(t1["t1-vdp-gc40"]), rel=1e-12)

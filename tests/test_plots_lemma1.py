@@ -47,6 +47,35 @@ def test_pareto_curves_draw_the_curve_and_mark_the_chosen_pair(lemma1_run):
     assert np.min(gc_lines[0].get_ydata()) == pytest.approx(c.gamma_c, rel=0.02)
 
 
+def test_pareto_curves_without_gamma_c_draw_one_panel_with_the_same_curve(lemma1_run):
+    _, M, c, _, _ = lemma1_run
+    fig = theory_plots.pareto_curves({f"M = {M}": c}, gamma_c=False)
+    assert len(fig.axes) == 1
+    curve = next(ln for ln in fig.axes[0].get_lines() if ln.get_label() == f"M = {M}")
+    np.testing.assert_allclose(curve.get_ydata(), c.pareto[:, 1] / (c.alpha_lo * np.sqrt(M - 1)))
+    assert_legible(fig)
+    with pytest.raises(ValueError, match="gamma_c"):
+        theory_plots.pareto_curves({f"M = {M}": c}, gamma_c="no")
+
+
+def test_lemma1_check_keeps_its_symlog_labels_apart():
+    """At M = 19 the bound is about 1e3 and the increments about ±0.1: the labelled ticks of the
+    increment panel stay at least a tenth of the axis apart."""
+    ex = orrc.examples.scalar_unstable()
+    M, T = 19, 60
+    c = certify.lq_constants(ex.system, ex.cost, M)
+    w = orrc.disturbances.uniform_ball(T + M, 1, radius=0.5, seed=3)
+    traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, M), ex.x0, w, T)
+    l1 = checks.lemma1_margins(traj, M, c.alpha_lo, c.alpha_hi, c.gamma_bar)
+    ax2 = theory_plots.lemma1_check(l1).axes[1]
+    lo, hi = ax2.get_ylim()
+    to_axis = ax2.yaxis.get_transform().transform
+    pos = np.sort([(to_axis(np.array([t]))[0] - to_axis(np.array([lo]))[0])
+                   / (to_axis(np.array([hi]))[0] - to_axis(np.array([lo]))[0]) for t in ax2.get_yticks()])
+    assert 0.0 in ax2.get_yticks() and len(pos) >= 3
+    assert np.diff(pos).min() >= 0.1 - 1e-9
+
+
 def test_pareto_curves_label_estimates():
     ex = orrc.examples.van_der_pol(dt=0.3)
     est = certify.sampled_constants(ex.system, ex.cost, 8, n_samples=4, x_radius=1.0, w_radius=0.1,

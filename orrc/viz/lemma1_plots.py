@@ -15,12 +15,12 @@ from matplotlib.figure import Figure
 from .. import theory
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from ._theory_common import _constants, _legend_below, _margins, _message, _symlog
-from .style import FONT, _figure, _nonempty_dict
+from .style import FONT, WIDTH, _figure, _nonempty_dict
 
 __all__ = ["pareto_curves", "horizon_threshold", "lemma1_check"]
 
 
-def pareto_curves(constants: dict, title: str | None = None) -> Figure:
+def pareto_curves(constants: dict, title: str | None = None, gamma_c: bool = True) -> Figure:
     """The admissible pairs of the class condition V_M(x, W) <= ᾱ σ(x) + γ̄ Σ_k ‖w_k‖² (Section 5.1),
     measured against the horizon threshold.
 
@@ -30,14 +30,17 @@ def pareto_curves(constants: dict, title: str | None = None) -> Figure:
     exactly where it is below 1 (M > ᾱ²/α_lo² + 1). The curves of different M then
     separate, although ᾱ(γ̄) itself hardly changes with M. The star is the chosen pair (the
     one that minimises γ_c; the knee, the smallest product ᾱ γ̄, when no pair is below 1).
-    Right: Theorem 1's γ_c along each curve (with a = min_decay_rate), finite only below 1.
+    Right: Theorem 1's γ_c along each curve (with a = min_decay_rate), finite only below 1;
+    ``gamma_c=False`` leaves this panel out (for a page that has not met Theorem 1 yet).
     """
     from matplotlib.ticker import LogLocator, NullFormatter
 
     constants = _nonempty_dict("constants", constants)
     cs = {label: _constants(f"constants[{label!r}]", c) for label, c in constants.items()}
-    fig, axes = _figure(1, 2, height=3.6)
-    ax, ax2 = axes[0]
+    if not isinstance(gamma_c, bool):
+        raise OrrcValueError(f"gamma_c must be True or False; got {gamma_c!r}")
+    fig, axes = _figure(1, 2 if gamma_c else 1, width=WIDTH if gamma_c else 5.2, height=3.6)
+    ax, ax2 = (axes[0, 0], axes[0, 1]) if gamma_c else (axes[0, 0], None)
     styles = ["-", "--", "-.", ":"]
     # x range: from the left end of the curves to a decade past the stars and the plateaus
     x_lo = min(c.pareto[0, 0] for c in cs.values())
@@ -60,7 +63,7 @@ def pareto_curves(constants: dict, title: str | None = None) -> Figure:
         ax.plot([c.gamma_bar], [c.alpha_hi / (c.alpha_lo * math.sqrt(c.M - 1))], marker="*", markersize=11,
                 color=col, markeredgecolor="k", linestyle="none")
         fin = np.isfinite(c.pareto_gamma_c)
-        if fin.any():
+        if ax2 is not None and fin.any():
             any_gc = True
             ax2.loglog(gb[fin], c.pareto_gamma_c[fin], color=col, linestyle=ls, label=label)
             ax2.plot([c.gamma_bar], [c.gamma_c], marker="*", markersize=11, color=col, markeredgecolor="k")
@@ -73,13 +76,15 @@ def pareto_curves(constants: dict, title: str | None = None) -> Figure:
     ax.set_xlim(x_lo / 1.3, x_hi)
     ax.set_ylim(y_lo, y_hi)
     ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
-    for a in (ax, ax2):
+    for a in (ax, ax2) if gamma_c else (ax,):
         a.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel(r"$\overline{\gamma}$")
     ax.set_ylabel(r"$\overline{\alpha}(\overline{\gamma})\,/\,\underline{\alpha}\sqrt{M-1}$")
     ax.set_title("admissible pairs: on or above each curve\n(star: the chosen pair)", fontsize=FONT + 1)
     ax.legend(fontsize=FONT, loc="upper right")
-    if any_gc:
+    if ax2 is None:
+        pass
+    elif any_gc:
         ax2.set_xlim(x_lo / 1.3, x_hi)
         ax2.set_xlabel(r"$\overline{\gamma}$ (pair on the curve)")
         ax2.set_ylabel(r"$\gamma_c$ of Theorem 1")
@@ -119,6 +124,24 @@ def horizon_threshold(Ms, alpha_hi, alpha_lo, M_star: int | None = None) -> Figu
     ax.set_ylabel("horizon")
     ax.legend(fontsize=FONT, loc="lower right")
     return fig
+
+
+def _spread_ticks(ax, gap: float = 0.1) -> None:
+    """Keep the labelled ticks of a symmetric-log y axis at least ``gap`` (a fraction of the axis
+    height) apart: 0 first, then the largest magnitudes, so that no labels crowd near 0."""
+    from matplotlib.ticker import FixedLocator
+
+    lo, hi = ax.get_ylim()
+    to_axis = ax.yaxis.get_transform().transform
+    span = float(to_axis(np.array([hi]))[0] - to_axis(np.array([lo]))[0]) or 1.0
+    ticks = [t for t in ax.get_yticks() if lo <= t <= hi]
+    kept: list[float] = []
+    for t in sorted(ticks, key=lambda v: (v != 0.0, -abs(v))):
+        pos = float(to_axis(np.array([t]))[0] - to_axis(np.array([lo]))[0]) / span
+        if all(abs(pos - q) >= gap for q in (float(to_axis(np.array([k]))[0] - to_axis(np.array([lo]))[0]) / span
+                                             for k in kept)):
+            kept.append(t)
+    ax.yaxis.set_major_locator(FixedLocator(sorted(kept)))
 
 
 _LEMMA1_LABELS = {
@@ -184,6 +207,7 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool 
     ax2.plot(inc.t, inc.actual, color="tab:blue", linewidth=1.4, marker=".", markersize=3, label=lab["increment"])
     ax2.axhline(0.0, color="k", linewidth=0.7)
     _symlog(ax2, inc.bound, inc.actual)
+    _spread_ticks(ax2)
     ax2.set_xlabel("$t$")
     ax2.set_title(rf"increments: ${lab['Gamma']} = {lemma1.Gamma_V:.3g}$, "
                   rf"${lab['Gamma_gamma']} = {lemma1.Gamma_V_gamma:.3g}$", fontsize=FONT + 1)
