@@ -8,7 +8,7 @@ from ._validate import NonFiniteWarning, OrrcValueError, SizeWarning
 from .controllers import (GPC, LQR, Clairvoyant, Controller, Decision, DisturbanceAction, EstimateThenControl, HInfinity,
                           LiftedRHC, MinMaxRHC, Observation, PreviewRHC, RegretOptimal, ZeroInput)
 from .costs import Cost, CostSequence, L1Cost, QuadraticCost, StageCost
-from .disturbances import Ball, Box
+from .disturbances import Ball, Box, Polytope
 from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
 from .simulate import Trajectory, simulate
 from .sweep import SweepError, Table, sweep
@@ -25,7 +25,7 @@ __all__ = [
     "OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning",
     "System", "LinearSystem", "NonlinearSystem", "ParametricSystem", "LinearParametricSystem",
     "StageCost", "QuadraticCost", "L1Cost", "Cost", "CostSequence",
-    "Ball", "Box", "disturbances", "examples",
+    "Ball", "Box", "Polytope", "disturbances", "examples",
     "Controller", "Observation", "Decision", "PreviewRHC", "EstimateThenControl", "LiftedRHC", "MinMaxRHC", "LQR",
     "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "Plan",
     "simulate", "Trajectory", "sweep", "Table", "SweepError",
