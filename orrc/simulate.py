@@ -48,6 +48,7 @@ from ._fast_loops import fast_path, nlp_loop, record_fast_steps
 from ._validate import OrrcValueError, as_array, as_int, check_size
 from .controllers.base import Controller, Observation
 from .costs import CostSequence, StageCost
+from .forecasts import Forecast
 from .solvers.plan import SolverError, SolverWarning
 from .systems import LinearSystem, NonlinearSystem, System
 from .trajectory import Record, Trajectory, failure_summary
@@ -55,7 +56,7 @@ from .trajectory import Record, Trajectory, failure_summary
 __all__ = ["simulate", "Trajectory"]
 
 
-def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) -> Trajectory:
+def simulate(system: System, controller: Controller, x0, w, T: int, costs=None, forecast=None) -> Trajectory:
     """Run ``controller`` on ``system`` for T steps from x0 under disturbances ``w``.
 
     Parameters
@@ -68,6 +69,10 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
     costs : the problem's costs c_t: a StageCost (time-invariant), a CostSequence
         (time-varying, previewed to the controller M_c steps ahead), or None for the
         controller's own cost.
+    forecast : an :class:`orrc.forecasts.Forecast`, or None for the exact preview. With a
+        forecast the controller's preview at step t is the model's ŵ_{t:t+M_w-1|t}, never the
+        true window; the truth w_{t-1} is revealed at step t as before. The forecasts are
+        recorded in ``Trajectory.forecasts`` (T, M_w, n).
 
     Failures (see the module docstring): bad arguments raise :class:`~orrc.OrrcValueError`;
     failed solves are marked in the trajectory and summarised in ONE :class:`~orrc.SolverWarning`;
@@ -76,15 +81,17 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
     (:class:`~orrc.NonFiniteWarning`).
     """
     rec = _prepare(system, controller, x0, w, T, costs)
+    forecasts = _prepare_forecast(forecast, controller, rec)
     linear = isinstance(system, LinearSystem)
     A, B = (system.A, system.B) if linear else (None, None)
     step = None if linear else (system._step if type(system).step is NonlinearSystem.step else system.step)
     controller.reset()
-    loop = fast_path(controller, rec)  # the rule: orrc._fast_loops.fast_path
+    # the rule: orrc._fast_loops.fast_path (the fast loops read the true windows: not with a forecast)
+    loop = fast_path(controller, rec) if forecast is None else None
     start = time.perf_counter()
     with np.errstate(over="ignore", invalid="ignore"):  # divergence is checked (and raised) below
         if loop is None:
-            information_pattern_loop(controller, rec, step, A, B, start)
+            information_pattern_loop(controller, rec, step, A, B, start, forecast=forecast, forecasts=forecasts)
         elif loop is nlp_loop:   # the steps it does not take itself: the controller's own, one at a time
             nlp_loop(controller, rec, step, A, B,
                      lambda t: information_pattern_loop(controller, rec, step, A, B, start, (t,)))
@@ -94,26 +101,31 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None) 
         wall = time.perf_counter() - start
         _check_divergence(controller, rec)
     traj = rec.trajectory(rec.T, wall)
+    traj.forecasts = forecasts
     if not rec.ok.all():
         warnings.warn(failure_summary(controller.name, rec.T, rec.ok, rec.status, rec.fallback), SolverWarning,
                       stacklevel=2)
     return traj
 
 
-def information_pattern_loop(controller: Controller, rec: Record, step, A, B, start: float, steps=None) -> None:
+def information_pattern_loop(controller: Controller, rec: Record, step, A, B, start: float, steps=None,
+                             forecast=None, forecasts=None) -> None:
     """The closed loop of Eq. (2): at each step t the controller is handed x_t (read-only), w_{t-1},
     the previewed w_{t:t+M_w-1} and c_{t:t+M_c-1}, and nothing else; it returns u_t (with V_M and its
     solver's report, recorded), and the system moves to x_{t+1} = f(x_t, u_t, w_t) (``step``; None:
     A x_t + B u_t + w_t). A :class:`~orrc.SolverError` propagates with the run so far. ``steps``: the
-    steps to take (default all T, in order)."""
+    steps to take (default all T, in order). With a ``forecast`` model the previewed window is the
+    model's (:func:`_forecast_window`, recorded in ``forecasts``), never the true one."""
     T, Mw, Mc, wpad, cparams, X_read = rec.T, rec.Mw, rec.Mc, rec.wpad, rec.cparams, rec.X_read
     m = rec.U.shape[1]
     m_shape, empty_w = (m,), wpad[:0]
     per_step_cost = not rec.quadratic
     for t in range(T) if steps is None else steps:
         xt = X_read[t]  # a read-only view of x_t (X[t] is not written again)
-        obs = Observation(t, xt, wpad[t - 1] if t > 0 else None,
-                          wpad[t:t + Mw] if Mw else empty_w,
+        window = wpad[t:t + Mw] if Mw else empty_w
+        if forecast is not None:
+            window = forecasts[t] = _forecast_window(forecast, t, wpad, Mw)
+        obs = Observation(t, xt, wpad[t - 1] if t > 0 else None, window,
                           cparams[t:t + Mc] if (cparams is not None and Mc) else None)
         try:
             d = controller.control(obs)
@@ -186,6 +198,35 @@ def _prepare(system, controller, x0, w, T, costs) -> Record:
         cparams = seq.window(0, T + max(Mc, 1))
         cparams.flags.writeable = False
     return Record(controller, stage, seq, x0, wpad, cparams, T, n, m)
+
+
+def _prepare_forecast(forecast, controller, rec: Record):
+    """The (T, M_w, n) record of the forecasts, the model reset; None without a forecast."""
+    if forecast is None:
+        return None
+    if not isinstance(forecast, Forecast):
+        raise OrrcValueError(f"forecast must be an orrc.forecasts.Forecast (e.g. Noisy(0.1)) or None; "
+                             f"got {type(forecast).__name__}")
+    if rec.Mw == 0:
+        raise OrrcValueError(f"forecast={forecast!r} was given, but controller {controller.name!r} previews no "
+                             "disturbance (preview_w = 0): a forecast would never be used")
+    n = rec.wpad.shape[1]
+    check_size(f"the forecasts of T={rec.T} steps (M_w={rec.Mw}, n={n})", nbytes=8.0 * rec.T * rec.Mw * n,
+               ops=rec.T * rec.Mw * n, hint="lower T or the horizon")
+    forecast.reset(n)
+    return np.zeros((rec.T, rec.Mw, n))
+
+
+def _forecast_window(forecast, t: int, wpad: np.ndarray, Mw: int) -> np.ndarray:
+    """The model's ŵ_{t:t+M_w-1|t} from the revealed w_{0:t-1} and, for a model of an error, the true
+    window; checked (shape, finite) and handed out read-only, a copy that shares nothing with the truth."""
+    window = np.array(forecast.window(t, wpad[:t], wpad[t:t + Mw]), dtype=float)
+    if window.shape != (Mw, wpad.shape[1]) or not np.all(np.isfinite(window)):
+        raise OrrcValueError(f"forecast {forecast!r} must return a finite ({Mw}, {wpad.shape[1]}) window at t={t}; "
+                             f"got shape {window.shape}" + ("" if window.shape != (Mw, wpad.shape[1]) else
+                                                             " with non-finite entries"))
+    window.flags.writeable = False
+    return window
 
 
 def _check_divergence(controller, rec: Record) -> None:

@@ -44,6 +44,8 @@ class Trajectory:
         counts them (e.g. how often SQP fell back to IPOPT)
     fallback : list, per step, None or what was applied instead of the failed solve's optimum
         (e.g. "the previous successful plan, shifted", "the solver's last iterate")
+    forecasts : (T, M_w, n) the forecasts ŵ_{t:t+M_w-1|t} the controller previewed, in a run with a
+        forecast model (:func:`simulate`'s ``forecast``); None with the exact preview
     iterations, solve_times : (T,) solver iterations and seconds per step
     wall_time : seconds for the whole simulation
     info : what the controller recorded during the run (``Controller.record()``; empty by default)
@@ -69,6 +71,7 @@ class Trajectory:
     value_valid: np.ndarray | None = None
     fallback: list = field(default_factory=list)
     solver: list = field(default_factory=list)
+    forecasts: np.ndarray | None = None
 
     @property
     def T(self) -> int:

@@ -276,6 +276,7 @@ def _waited(what: str):
     return book_result() if what == "book" else graded_result()
 
 
+@pytest.hookimpl(trylast=True)   # after -m/-k deselection: a deselected test starts no build
 def pytest_collection_modifyitems(session, config, items):
     """Order: the tests that need neither the book nor the gradings first (they run while the book
     builds and the assignments are graded in the background), then those that read the book, then

@@ -1,7 +1,7 @@
 """Every chapter ends with 2 to 4 exercises, each with a solution whose code ran in the build (issue 15).
 
-A chapter is every notebook page of ``_toc.yml`` except the preface, the execution-times page
-and the instructor's guide. Its exercises and solutions are read from its MyST source in the
+A chapter is every notebook chapter of the teaching parts of ``_toc.yml`` (``tools.toc.teaching_chapters``:
+not the preface, the course materials, the appendices or a chapter's "Going deeper" sub-pages). Its exercises and solutions are read from its MyST source in the
 book's fixed format (``tools/solutions.py``: ``{exercise}`` with a ``:label:``; a gated
 ``solution-start``/``solution-end`` pair whose ``code-cell``\\ s execute, or a plain
 ``{solution}`` for a solution without code; both ``:class: dropdown``). The code cells of each
@@ -20,11 +20,11 @@ import pytest
 
 from conftest import BOOK_OUT
 from tools.solutions import fences, parse
-from tools.toc import notebook_pages
+from tools.toc import teaching_chapters
 
 ROOT = Path(__file__).resolve().parents[1]
 NOT_CHAPTERS = ("preface", "execution", "instructors")
-CHAPTERS = [p for p in notebook_pages(ROOT) if Path(p).name not in NOT_CHAPTERS]
+CHAPTERS = teaching_chapters(ROOT)
 
 
 def solution_cells(nb) -> dict[str, list]:

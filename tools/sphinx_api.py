@@ -31,7 +31,7 @@ from sphinx.util.nodes import nested_parse_with_titles
 #: the modules with a page of their own, in the reference's order: the top-level package, its
 #: public modules and subpackages, and the plotting modules that ``orrc.viz`` exports
 MODULES = (
-    "orrc", "orrc.systems", "orrc.parametric", "orrc.costs", "orrc.disturbances", "orrc.examples",
+    "orrc", "orrc.systems", "orrc.parametric", "orrc.costs", "orrc.disturbances", "orrc.forecasts", "orrc.examples",
     "orrc.controllers", "orrc.simulate", "orrc.metrics", "orrc.sweep", "orrc.config",
     "orrc.theory", "orrc.checks", "orrc.certify", "orrc.estimation", "orrc.solvers", "orrc.tradeoff",
     "orrc.comparison", "orrc.viz", "orrc.viz.figures", "orrc.viz.describe", "orrc.viz.plots", "orrc.viz.theory_plots",

@@ -11,7 +11,8 @@ from .regret_optimal import RegretOptimal
 from .preview import PreviewRHC
 from .lifted import LiftedRHC
 from .estimate import EstimateThenControl, Excitation
+from .forecast import LambdaConfident, RobustPreviewRHC
 
 __all__ = ["Controller", "Decision", "Observation", "PreviewRHC", "MinMaxRHC", "LQR", "Clairvoyant", "ZeroInput",
            "FailureLadder", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "LiftedRHC", "EstimateThenControl",
-           "Excitation"]
+           "Excitation", "LambdaConfident", "RobustPreviewRHC"]

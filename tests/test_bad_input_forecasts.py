@@ -1,0 +1,78 @@
+"""Bad input to the forecasts (orrc.forecasts, simulate's ``forecast``) and the controllers that use
+them (LambdaConfident, RobustPreviewRHC): a clear orrc.OrrcValueError naming the argument.
+
+One table in the shared format of tests/bad_input.py.
+"""
+import numpy as np
+import pytest
+
+import orrc
+from bad_input import assert_bad_input, case, params
+from orrc.controllers.forecast import LambdaConfident, RobustPreviewRHC
+from orrc.forecasts import AR, AdversarialError, Bias, Delay, Exact, Forecast, Noisy
+
+EX = orrc.examples.double_integrator()
+W = orrc.disturbances.uniform_ball(L=20, n=2, radius=0.1, seed=0)
+
+
+def rhc():
+    return orrc.PreviewRHC(EX.system, EX.cost, M=3)
+
+
+class Misshapen(Forecast):
+    name = "misshapen"
+
+    def window(self, t, past, truth):
+        return np.zeros((1, 2))
+
+
+class NotFinite(Forecast):
+    name = "not finite"
+
+    def window(self, t, past, truth):
+        return np.full(truth.shape, np.nan)
+
+
+CASES = [
+    case("forecasts-not-a-model", lambda: orrc.simulate(EX.system, rhc(), EX.x0, W, T=5, forecast=np.zeros((5, 2))),
+         "forecast must be an orrc.forecasts.Forecast", "ndarray"),
+    case("forecasts-controller-without-preview",
+         lambda: orrc.simulate(EX.system, orrc.LQR(EX.system, EX.cost), EX.x0, W, T=5, forecast=Exact()),
+         "forecast=exact", "previews no disturbance"),
+    case("forecasts-window-shape", lambda: orrc.simulate(EX.system, rhc(), EX.x0, W, T=5, forecast=Misshapen()),
+         "forecast misshapen", "(3, 2) window at t=0", "(1, 2)"),
+    case("forecasts-window-not-finite", lambda: orrc.simulate(EX.system, rhc(), EX.x0, W, T=5, forecast=NotFinite()),
+         "forecast not finite", "non-finite"),
+    case("forecasts-noisy-sigma", lambda: Noisy(-1.0), "sigma"),
+    case("forecasts-noisy-growth", lambda: Noisy(0.1, growth=np.nan), "growth"),
+    case("forecasts-noisy-seed", lambda: Noisy(0.1, seed=-3), "seed"),
+    case("forecasts-bias-matrix", lambda: Bias(np.ones((2, 2))), "b must be a number or a vector"),
+    case("forecasts-bias-length", lambda: orrc.simulate(EX.system, rhc(), EX.x0, W, T=5, forecast=Bias([1, 2, 3])),
+         "b must be a number or a vector of length n=2", "3 entries"),
+    case("forecasts-delay-negative", lambda: Delay(-1), "d"),
+    case("forecasts-ar-order", lambda: AR(order=0), "order"),
+    case("forecasts-ar-ridge", lambda: AR(ridge=-1.0), "ridge"),
+    case("forecasts-adversarial-radius", lambda: AdversarialError(-0.1), "radius"),
+    case("forecasts-adversarial-norm", lambda: AdversarialError(0.1, norm="1"), "norm", "'1'"),
+    case("forecasts-errors-without-forecast",
+         lambda: orrc.forecasts.forecast_errors(orrc.simulate(EX.system, rhc(), EX.x0, W, T=5)), "traj has no forecasts"),
+    case("LambdaConfident-lam-range", lambda: LambdaConfident(EX.system, EX.cost, 3, lam=2.0), "lam"),
+    case("LambdaConfident-lam-word", lambda: LambdaConfident(EX.system, EX.cost, 3, lam="auto"), "lam", "'auto'"),
+    case("LambdaConfident-lam0", lambda: LambdaConfident(EX.system, EX.cost, 3, lam0=-0.1), "lam0"),
+    case("LambdaConfident-M", lambda: LambdaConfident(EX.system, EX.cost, 0), "M"),
+    case("LambdaConfident-nonlinear", lambda: LambdaConfident(orrc.examples.inverted_pendulum().system,
+                                                              orrc.examples.inverted_pendulum().cost, 3),
+         "LambdaConfident needs an orrc.LinearSystem and an orrc.QuadraticCost"),
+    case("RobustPreviewRHC-ball", lambda: RobustPreviewRHC(EX.system, EX.cost, 3, E=orrc.Ball(0.1, n=2)),
+         "E must be an orrc.Box"),
+    case("RobustPreviewRHC-set-dimension", lambda: RobustPreviewRHC(EX.system, EX.cost, 3, E=orrc.Box(-1, 1, n=3)),
+         "E must have the state dimension n=2", "R^3"),
+    case("RobustPreviewRHC-M", lambda: RobustPreviewRHC(EX.system, EX.cost, 0, E=orrc.Box(-1, 1, n=2)), "M"),
+    case("RobustPreviewRHC-too-many-vertex-sequences",
+         lambda: RobustPreviewRHC(EX.system, EX.cost, 40, E=orrc.Box(-1, 1, n=2)), "vertex sequences", "M=40"),
+]
+
+
+@pytest.mark.parametrize("call, exc, words", params(CASES))
+def test_bad_input_gets_a_clear_error(call, exc, words):
+    assert_bad_input(call, exc, words)
