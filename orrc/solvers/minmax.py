@@ -100,15 +100,12 @@ def check_set(W, n: int):
 
     Parameters
     ----------
-    W : Box, Ball or Polytope
-        The set; a box needs finite bounds and lo <= hi, a ball a finite radius.
-    n : int
-        The state dimension (w_t enters the state).
+    W : Box, Ball or Polytope (a box needs finite bounds and lo <= hi, a ball a finite radius)
+    n : int, the state dimension (w_t enters the state)
 
     Returns
     -------
-    Box, Ball or Polytope
-        ``W`` itself; an :class:`~orrc.OrrcValueError` naming W otherwise.
+    Box, Ball or Polytope: ``W`` itself; an :class:`~orrc.OrrcValueError` naming W otherwise.
 
     Examples
     --------

@@ -34,14 +34,12 @@ import warnings
 
 import numpy as np
 
-from .._validate import OrrcValueError, check_size
-from ..disturbances import Box, Polytope
-from .minmax import MinMaxPlan, _box_vertices
+from .minmax import MinMaxPlan
+from .tree_lq import weighted_tree_value
+from .tree_size import TREE_NODE_LIMIT, _check_tree, tree_nodes, tree_vertices  # noqa: F401 (re-exported)
 
 __all__ = ["ScenarioTree", "TREE_NODE_LIMIT", "tree_nodes", "tree_vertices"]
 
-#: the largest scenario tree (nodes) that :class:`ScenarioTree` builds
-TREE_NODE_LIMIT = 2 ** 15
 #: up to this many nodes the program is compiled once with x as a parameter (fast re-solves in a closed
 #: loop); above it cvxpy's parametric compilation costs more than compiling anew at every solve
 _PARAMETRIC_NODES = 1500
@@ -53,81 +51,6 @@ RTOL = 1e-6
 _CLARABEL = {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10, "tol_ktratio": 1e-9,
              "iterative_refinement_reltol": 1e-14, "iterative_refinement_abstol": 1e-14,
              "iterative_refinement_max_iter": 30, "max_iter": 400}
-
-
-def tree_vertices(W) -> np.ndarray:
-    """The vertices of W that branch the scenario tree, shape (V, n).
-
-    Parameters
-    ----------
-    W : Box or Polytope
-        A box (its distinct corners: a flat coordinate lo = hi gives one value) or a polytope (its
-        given points).
-
-    Returns
-    -------
-    numpy.ndarray, shape (V, n)
-        The vertices, in the order of ``itertools.product`` for a box.
-
-    Examples
-    --------
-    >>> import orrc
-    >>> from orrc.solvers.scenario_tree import tree_vertices
-    >>> tree_vertices(orrc.Box([-1.0, 0.0], [1.0, 0.0])).tolist()
-    [[-1.0, 0.0], [1.0, 0.0]]
-    """
-    if isinstance(W, Box):
-        return _box_vertices(W)
-    if isinstance(W, Polytope):
-        return W.vertices()
-    raise OrrcValueError(f"W must be an orrc.Box or an orrc.Polytope (a polytope, so that the worst case of a convex "
-                         f"cost sits at its vertices); got {type(W).__name__}")
-
-
-def tree_nodes(n_vertices: int, M: int) -> int | float:
-    """N = 1 + V + ... + V^{M-1}: the nodes of the scenario tree, counted without building it.
-
-    Parameters
-    ----------
-    n_vertices : int
-        V, the vertices of W (>= 1).
-    M : int
-        The horizon (>= 1).
-
-    Returns
-    -------
-    int or float
-        The node count; a float (possibly ``inf``) when it exceeds 2^62.
-
-    Examples
-    --------
-    >>> from orrc.solvers.scenario_tree import tree_nodes
-    >>> tree_nodes(2, 6), tree_nodes(4, 3), tree_nodes(1, 5)
-    (63, 21, 5)
-    """
-    V, M = int(n_vertices), int(M)
-    if V == 1:
-        return M
-    if M * math.log2(V) <= 62:
-        return (V ** M - 1) // (V - 1)
-    with np.errstate(over="ignore"):
-        big = (float(V) ** M - 1.0) / (V - 1.0) if M * math.log2(V) < 1000 else math.inf
-    return big
-
-
-def _check_tree(V: int, M: int, n: int, m: int) -> int:
-    """The node count, after the limit and the size estimate (refused with the numbers in the message)."""
-    N = tree_nodes(V, M)
-    if N > TREE_NODE_LIMIT:
-        count = str(N) if isinstance(N, int) else f"{N:.3g}"
-        raise OrrcValueError(
-            f"the feedback min-max tree at M={M} with {V} vertices of W has {count} nodes (1 + V + ... + V^(M-1)); "
-            f"the limit is {TREE_NODE_LIMIT} nodes (orrc.solvers.scenario_tree.TREE_NODE_LIMIT): use a shorter "
-            "horizon M, a W with fewer vertices, or policy='open-loop'")
-    width = 2 * (n + m) + 3     # (about 3 s for 5461 nodes with n = 2, m = 1, compilation included)
-    check_size(f"the feedback min-max tree at M={M} with {V} vertices of W: {N} nodes",
-               nbytes=8.0 * N * width * 60, ops=1.5e5 * N * (n + m + 1), hint="use a shorter horizon M")
-    return int(N)
 
 
 def _sqrt_psd(S: np.ndarray) -> np.ndarray:
@@ -328,37 +251,9 @@ class ScenarioTree:
         lam = np.clip(np.asarray(weights, float).ravel(), 0.0, None)
         if lam.size != self.leaves or not lam.sum() > 0 or not np.all(np.isfinite(lam)):
             return -math.inf
-        lam = lam / lam.sum()
         Qs, Rs = self._weights(P)
-        n, V, A, B = self.n, len(self.verts), self.A, self.B
-        mu = np.zeros(self.nodes)
-        mu[self.off[self.M - 1]:] = lam
-        for d in range(self.M - 1, 0, -1):
-            a, b = self.off[d], self.off[d + 1]
-            np.add.at(mu, self.parent[a - 1:b - 1], mu[a:b])
-        a, b = self.off[self.M - 1], self.off[self.M]
-        Pm = mu[a:b, None, None] * Qs[self.M - 1]          # the leaves: u = 0 (R > 0), no successors
-        q = np.zeros((b - a, n))
-        r = np.zeros(b - a)
-        for d in range(self.M - 2, -1, -1):
-            a, b = self.off[d], self.off[d + 1]
-            k = b - a
-            v = np.broadcast_to(self.verts, (k, V, n))
-            Pc, qc, rc = Pm.reshape(k, V, n, n), q.reshape(k, V, n), r.reshape(k, V)
-            S = Pc.sum(axis=1)
-            s = np.einsum("kvij,kvj->ki", Pc, v) + qc.sum(axis=1)
-            c0 = np.einsum("kvi,kvij,kvj->k", v, Pc, v) + 2 * np.einsum("kvi,kvi->k", qc, v) + rc.sum(axis=1)
-            Hu = mu[a:b, None, None] * Rs[d] + np.einsum("ia,kij,jb->kab", B, S, B)
-            SA = np.einsum("kij,jb->kib", S, A)
-            BSA = np.einsum("ia,kib->kab", B, SA)
-            Bs = s @ B
-            G = np.linalg.pinv(Hu, hermitian=True)
-            Pm = mu[a:b, None, None] * Qs[d] + np.einsum("ia,kib->kab", A, SA) - np.einsum("kai,kab,kbj->kij", BSA, G,
-                                                                                              BSA)
-            q = s @ A - np.einsum("kai,kab,kb->ki", BSA, G, Bs)
-            r = c0 - np.einsum("ka,kab,kb->k", Bs, G, Bs)
-        x = np.asarray(x, float)
-        return float(x @ Pm[0] @ x + 2 * q[0] @ x + r[0])
+        return weighted_tree_value(self.A, self.B, Qs, Rs, self.verts, self.off, self.parent, lam / lam.sum(),
+                                   np.asarray(x, float))
 
     def path(self, leaf: int) -> np.ndarray:
         """The node indices from the root to leaf number ``leaf`` (0 <= leaf < V^{M-1}), shape (M,).
