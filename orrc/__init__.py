@@ -9,7 +9,7 @@ from .controllers import (GPC, LQR, Clairvoyant, Controller, Decision, Disturban
                           LambdaConfident, LiftedRHC, MinMaxRHC, Observation, PreviewRHC, RegretOptimal,
                           RobustPreviewRHC, ZeroInput)
 from .costs import Cost, CostSequence, L1Cost, QuadraticCost, StageCost
-from .disturbances import Ball, Box
+from .disturbances import Ball, Box, Polytope
 from .metrics import attenuation_ratio, attenuation_regret, dynamic_regret
 from .simulate import Trajectory, simulate
 from .sweep import SweepError, Table, sweep
@@ -26,7 +26,7 @@ __all__ = [
     "OrrcValueError", "SolverWarning", "SolverError", "SizeWarning", "NonFiniteWarning",
     "System", "LinearSystem", "NonlinearSystem", "ParametricSystem", "LinearParametricSystem",
     "StageCost", "QuadraticCost", "L1Cost", "Cost", "CostSequence",
-    "Ball", "Box", "disturbances", "forecasts", "examples",
+    "Ball", "Box", "Polytope", "disturbances", "forecasts", "examples",
     "Controller", "Observation", "Decision", "PreviewRHC", "EstimateThenControl", "LiftedRHC", "MinMaxRHC", "LQR",
     "Clairvoyant", "ZeroInput", "HInfinity", "GPC", "DisturbanceAction", "RegretOptimal", "Plan",
     "LambdaConfident", "RobustPreviewRHC",

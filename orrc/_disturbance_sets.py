@@ -1,4 +1,4 @@
-"""Disturbance sets W (Assumption 1): the ball and the box, each with its membership test,
+"""Disturbance sets W (Assumption 1): the ball, the box and the polytope, each with its membership
 projection and sampler. Re-exported by :mod:`orrc.disturbances`, where they are documented.
 """
 from __future__ import annotations
@@ -141,3 +141,69 @@ class Box:
 
     def __repr__(self):
         return f"Box(lo={self.lo}, hi={self.hi})"
+
+
+class Polytope:
+    """W = conv{v_1, ..., v_k} ⊂ R^n, a polytope given by its vertices (rows of ``vertices``, (k, n)).
+
+    Parameters
+    ----------
+    vertices : array_like, shape (k, n)
+        The points whose convex hull is W (k >= 1; repeated or interior points are allowed, they
+        only enlarge the scenario tree of :class:`~orrc.MinMaxRHC` with ``policy="feedback"``).
+
+    Examples
+    --------
+    >>> import orrc
+    >>> W = orrc.Polytope([[0.3, 0.0], [-0.3, 0.1], [0.0, -0.2]])
+    >>> W.vertices().shape, round(W.max_norm_sq, 2)
+    ((3, 2), 0.1)
+    """
+
+    def __init__(self, vertices):
+        V = as_array("vertices", vertices, ndim=2)
+        if V.shape[0] < 1 or V.shape[1] < 1:
+            raise OrrcValueError(f"vertices must have shape (k, n) with k >= 1 points of R^n; got shape {V.shape}")
+        if np.abs(V).max() > 1e150 / np.sqrt(V.shape[1]):
+            raise OrrcValueError("vertices must be at most 1e150/sqrt(n) in magnitude (so that max ‖w‖² is a float)")
+        self._V = V.copy()
+        self.n = V.shape[1]
+
+    @property
+    def max_norm_sq(self) -> float:
+        """max_{w∈W} ‖w‖² (attained at a vertex), a float."""
+        return float(np.max(np.sum(self._V ** 2, axis=1)))
+
+    def vertices(self) -> np.ndarray:
+        """The k given points, shape (k, n) (a copy)."""
+        return self._V.copy()
+
+    def contains(self, w, tol: float = 1e-9) -> bool:
+        """True when every row of w ((n,) or (L, n)) is a convex combination of the vertices, up to
+        ``tol`` relative to max‖v‖ (one small linear program per row)."""
+        from scipy.optimize import linprog
+
+        w = _points("w", w, self.n)
+        tol = as_float("tol", tol, minimum=0.0)
+        k = self._V.shape[0]
+        scale = max(np.sqrt(self.max_norm_sq), 1e-300)
+        for row in w:   # min s s.t. |Vᵀλ - w| <= s, λ >= 0, Σλ = 1
+            c = np.zeros(k + 1)
+            c[-1] = 1.0
+            A = np.block([[self._V.T, -np.ones((self.n, 1))], [-self._V.T, -np.ones((self.n, 1))]])
+            b = np.concatenate([row, -row])
+            res = linprog(c, A_ub=A, b_ub=b, A_eq=np.concatenate([np.ones(k), [0.0]])[None, :], b_eq=[1.0],
+                          bounds=[(0, None)] * (k + 1), method="highs")
+            if not res.success or res.fun > tol * scale:
+                return False
+        return True
+
+    def sample(self, L: int, seed=None) -> np.ndarray:
+        """L random convex combinations of the vertices (Dirichlet(1) weights, i.i.d.), shape (L, n)."""
+        L = as_int("L", L, minimum=1)
+        _sequence_size(L, self.n)
+        lam = _rng(seed).dirichlet(np.ones(self._V.shape[0]), size=L)
+        return lam @ self._V
+
+    def __repr__(self):
+        return f"Polytope({self._V.shape[0]} vertices in R^{self.n})"

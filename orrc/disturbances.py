@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._disturbance_sets import Ball, Box, _rng, _sequence_size
+from ._disturbance_sets import Ball, Box, Polytope, _rng, _sequence_size
 from ._validate import OrrcValueError, as_array, as_float, as_int, check_finite_result
 
 __all__ = ["zero", "constant", "sinusoid", "uniform_ball", "uniform_box", "gaussian", "bursts", "make", "energy",
-           "Ball", "Box"]
+           "Ball", "Box", "Polytope"]
 
 KINDS = ("zero", "constant", "sinusoid", "uniform_ball", "uniform_box", "gaussian", "bursts")
 

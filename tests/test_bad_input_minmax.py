@@ -116,6 +116,27 @@ CASES = [
     case("minmax_constants-W-type", lambda: certify.minmax_constants(SYS, COST, 4, [0.3]), "W must be"),
     case("minmax_constants-no-alpha-lo", lambda: certify.minmax_constants(SYS, orrc.Cost(lambda x, u: x[0] ** 2 + u[0] ** 2,
                                                                                   1, 1), 4, W1), "alpha_lo"),
+    case("minmax_constants-policy", lambda: certify.minmax_constants(SYS, COST, 4, W1, policy="closed"),
+         "policy must be", "'closed'"),
+    # feedback min-max (the scenario tree) and the max-min value
+    case("MinMaxRHC-policy", lambda: _rhc(policy="closed-loop"), "policy must be one of", "'closed-loop'"),
+    case("MinMaxRHC-feedback-tree-too-large", lambda: _rhc(M=40, policy="feedback"), "M=40", "2 vertices",
+         "limit is"),
+    case("MinMaxRHC-feedback-nonlinear", lambda: orrc.MinMaxRHC(PEND.system, PEND.cost, 3, orrc.Box(-0.1, 0.1, 2),
+                                                               policy="feedback"), "policy='feedback' needs a LinearSystem"),
+    case("MinMaxRHC-feedback-ball", lambda: _rhc(W=orrc.Ball(0.3, 1), policy="feedback"), "polytope W", "Ball"),
+    case("MinMaxRHC-feedback-method", lambda: _rhc(policy="feedback", method="game"), "method must be 'auto' or 'exact'"),
+    case("MinMaxRHC-open-loop-polytope", lambda: _rhc(W=orrc.Polytope([[-0.3], [0.3]])), "orrc.Polytope",
+         "policy='feedback'"),
+    case("Polytope-shape", lambda: orrc.Polytope([0.1, 0.2]), "vertices"),
+    case("Polytope-empty", lambda: orrc.Polytope(np.zeros((0, 2))), "vertices", "k >= 1"),
+    case("Polytope-nan", lambda: orrc.Polytope([[np.nan]]), "vertices"),
+    case("maxmin_value-M", lambda: certify.maxmin_value(SYS, COST, 0, W1), "M must be an integer >= 1"),
+    case("maxmin_value-too-many", lambda: certify.maxmin_value(SYS, COST, 40, W1), "M=40", "limit is"),
+    case("maxmin_value-nonlinear", lambda: certify.maxmin_value(PEND.system, PEND.cost, 3, orrc.Box(-0.1, 0.1, 2)),
+         "maxmin_value"),
+    case("lemma6_case-policy", lambda: certify.lemma6_case(SYS, COST, 3, W1, policy="x"), "policy must be"),
+    case("lemma6_search-policy", lambda: certify.lemma6_search(n=1, n_problems=1, policy="x"), "policy must be"),
 ]
 
 

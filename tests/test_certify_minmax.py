@@ -94,3 +94,36 @@ def test_nonlinear_constants_are_labelled_estimates():
     assert c.estimate and "estimate" in c.method and "ESTIMATE" not in repr(c) and "estimated" in repr(c)
     s = c.info["samples"]
     assert np.all(c.bound(s["sigma"][s["sigma"] > 0]) >= s["V"][s["sigma"] > 0] * (1 - 1e-9))
+
+
+def test_feedback_constants_certify_the_feedback_value():
+    """The certified pair for policy="feedback" bounds V^fb at sampled states, its smallest γ̄_W is
+    V^fb(0)/w̄², and it is no larger than the open-loop one (V^fb <= V)."""
+    ex = orrc.examples.scalar_unstable(A=1.2)
+    W = orrc.Box(-0.3, 0.3)
+    fb = certify.minmax_constants(ex.system, ex.cost, 5, W, n_samples=12, policy="feedback")
+    ol = certify.minmax_constants(ex.system, ex.cost, 5, W, n_samples=1)
+    ctl = orrc.MinMaxRHC(ex.system, ex.cost, 5, W, policy="feedback")
+    assert not fb.estimate and fb.info["V0"] == pytest.approx(ctl.plan(np.zeros(1)).value, rel=1e-9)
+    assert fb.info["gamma_bar_W_min"] < ol.info["gamma_bar_W_min"]
+    xs = np.linspace(-50.0, 50.0, 41)
+    V = np.array([ctl.plan(np.array([x])).value for x in xs])
+    assert np.all(V <= fb.bound(xs ** 2) * (1 + 1e-9))
+    # the curve at any γ̄_W > V(0)/w̄² is an admissible pair too
+    for g in (1.1, 3.0, 30.0):
+        gb = g * fb.info["gamma_bar_W_min"]
+        assert np.all(V <= fb.alpha_hi_at(gb) * xs ** 2 + gb * W.max_norm_sq + 1e-9 * V)
+
+
+def test_maxmin_value_equals_preview_enumeration():
+    import itertools
+
+    rng = np.random.default_rng(2)
+    from conftest import random_lq_problem
+
+    sysm, cost = random_lq_problem(rng, n=2, m=1, rho_range=(0.6, 1.3))
+    W = orrc.Box([-0.2, -0.4], [0.3, 0.1])
+    x = rng.standard_normal(2)
+    pre = orrc.PreviewRHC(sysm, cost, 3)
+    brute = max(pre.plan(x, np.array(s)).value for s in itertools.product(W.vertices(), repeat=3))
+    assert certify.maxmin_value(sysm, cost, 3, W, x) == pytest.approx(brute, rel=1e-9)

@@ -98,3 +98,18 @@ def test_the_search_gives_the_same_result_on_worker_processes():
     procs = certify.lemma6_search(backend="processes", **kw)
     assert [c.ratio for c in serial.cases] == [c.ratio for c in procs.cases]
     assert [c.M for c in serial.cases] == [c.M for c in procs.cases]
+
+
+def test_lemma6_holds_for_feedback_min_max_where_it_is_proved():
+    """Lemma 6 is proved for feedback min-max RHC: the search on it finds r <= 1 at M >= 3, and at
+    M = 2 (where the open-loop and feedback plans coincide) both policies give the same ratios."""
+    from orrc import certify
+
+    fb = certify.lemma6_search(n=1, n_problems=2, M=(3, 4), n_x=6, n_pairs=10, seed=3, policy="feedback",
+                               backend="serial")
+    assert fb.ratio <= 1 + 1e-6 and not fb.counterexamples
+    ol2 = certify.lemma6_search(n=1, n_problems=2, M=2, n_x=6, n_pairs=10, seed=4, backend="serial")
+    fb2 = certify.lemma6_search(n=1, n_problems=2, M=2, n_x=6, n_pairs=10, seed=4, policy="feedback",
+                                backend="serial")
+    for a, b in zip(ol2.cases, fb2.cases):
+        assert a.ratio == pytest.approx(b.ratio, rel=1e-5, abs=1e-8)

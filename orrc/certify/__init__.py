@@ -39,7 +39,7 @@ SciPy is imported inside the functions that use it, so that ``import orrc`` does
 """
 from .attenuation import Attenuation, worst_case_attenuation, worst_case_attenuation_limit
 from .constants import Constants, alpha_hi_floor, lq_constants, smallest_certified_M
-from .minmax import MinMaxConstants, minmax_constants
+from .minmax import MinMaxConstants, maxmin_value, minmax_constants
 from .lemma6 import Lemma6Case, Lemma6Search, lemma6_case, lemma6_problem, lemma6_recheck, lemma6_search
 from .regret import Regret, worst_case_regret
 from .sampled import sampled_constants
@@ -48,5 +48,5 @@ from .lipschitz import Lipschitz, lq_lipschitz, lq_value_matrices, sampled_lipsc
 __all__ = ["Constants", "Attenuation", "lq_constants", "sampled_constants", "smallest_certified_M",
            "alpha_hi_floor", "worst_case_attenuation", "worst_case_attenuation_limit", "Regret",
            "worst_case_regret", "Lipschitz", "lq_lipschitz", "lq_value_matrices", "sampled_lipschitz",
-           "MinMaxConstants", "minmax_constants", "Lemma6Case", "Lemma6Search", "lemma6_case", "lemma6_problem",
+           "MinMaxConstants", "minmax_constants", "maxmin_value", "Lemma6Case", "Lemma6Search", "lemma6_case", "lemma6_problem",
            "lemma6_recheck", "lemma6_search"]

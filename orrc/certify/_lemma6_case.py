@@ -20,6 +20,7 @@ from .._problem import check_problem
 from ..controllers.minmax import MinMaxRHC
 from ..costs import QuadraticCost
 from ..disturbances import Box
+from ..solvers.scenario_tree import tree_nodes
 from ..systems import LinearSystem
 from .minmax import minmax_constants
 
@@ -30,8 +31,11 @@ RTOL = 1e-6
 SOLVE_OPS = 750 * PY_CALL_OPS
 
 
-def _solve_ops(n, M):
-    """Operations of one exact solve: the vertex tables' products and ten rounds, plus the overhead."""
+def _solve_ops(n, M, policy="open-loop"):
+    """Operations of one exact solve: the vertex tables' products and ten rounds (open-loop), or the
+    conic solve on the scenario tree of 2^n-vertex W (feedback), plus the overhead."""
+    if policy == "feedback":
+        return 2e4 * float(tree_nodes(2 ** n, M)) * (n + 2) + 3 * SOLVE_OPS
     N = 2.0 ** (n * (M - 1))
     return 20 * N * (M * n) ** 2 + SOLVE_OPS
 
@@ -75,9 +79,9 @@ class Lemma6Case:
 class _Problem:
     """V_{W,M}, κ_{W,M} and the increment's worst vertex for one LQ problem (counts the solves)."""
 
-    def __init__(self, system, cost, M, W):
+    def __init__(self, system, cost, M, W, policy="open-loop"):
         self.system, self.cost, self.M, self.W = system, cost, M, W
-        self.rhc = MinMaxRHC(system, cost, M, W, method="exact")
+        self.rhc = MinMaxRHC(system, cost, M, W, method="exact", policy=policy)
         self.verts = W.vertices()
         self.w2 = W.max_norm_sq
         self.alpha_lo = float(cost.alpha_lo)
@@ -142,7 +146,7 @@ def _check_lq(system, cost, M, W):
 
 
 def lemma6_case(system, cost, M, W, n_x: int = 30, n_angles: int = 12, n_pairs: int = 60,
-                x_span: float = 1e3, refine: bool = True) -> Lemma6Case:
+                x_span: float = 1e3, refine: bool = True, policy: str = "open-loop") -> Lemma6Case:
     """Lemma 6's inequality V_{W,M}(x⁺) - V_{W,M}(x) <= Γ_{W,V} σ(x) + Γ^γ_{W,V} max‖w‖² tested on one
     problem (see :mod:`orrc.certify.lemma6`): the largest ratio r over the grid of states, the vertices
     of W and the tight and certified pairs (ᾱ_W, γ̄_W).
@@ -156,11 +160,30 @@ def lemma6_case(system, cost, M, W, n_x: int = 30, n_angles: int = 12, n_pairs: 
     n_x : radii of the grid per direction (>= 3); n_angles : directions for n = 2 (>= 4).
     n_pairs : points of the tight curve (>= 5); x_span : the largest radius, in units of w̄ (> 1).
     refine : refine the worst grid point by a local search.
+    policy : "open-loop" (Algorithm 3 as written, V_{W,M}) or "feedback" (feedback min-max,
+        V^fb_{W,M}, the controller Lemma 6 is proved for; its r is at most 1 up to the solver's accuracy).
+
+    Returns
+    -------
+    Lemma6Case
+        The largest ratio r (tight and certified pairs), where it was found, and the counts.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2)
+    >>> case = certify.lemma6_case(ex.system, ex.cost, 3, orrc.Box(-0.3, 0.3), n_x=4, n_pairs=5,
+    ...                            refine=False, policy="feedback")
+    >>> case.holds(), case.points
+    (True, 9)
 
     Each state costs 1 + 2^n exact min-max solves of 2^{n(M-1)} vertex sequences; the total is
     estimated and checked first (``orrc.config``'s limits).
     """
     M = _check_lq(system, cost, M, W)
+    if policy not in ("open-loop", "feedback"):
+        raise OrrcValueError(f"policy must be 'open-loop' or 'feedback'; got {_describe(policy)}")
     n_x = as_int("n_x", n_x, minimum=3, maximum=10_000)
     n_angles = as_int("n_angles", n_angles, minimum=4, maximum=10_000)
     n_pairs = as_int("n_pairs", n_pairs, minimum=5, maximum=100_000)
@@ -171,16 +194,17 @@ def lemma6_case(system, cost, M, W, n_x: int = 30, n_angles: int = 12, n_pairs: 
     states = 1 + n_x * (2 if n == 1 else n_angles) + (40 if refine else 0)
     N = 2.0 ** (n * (M - 1))
     check_size(f"lemma6_case at M={M}, n={n}, n_x={n_x}, n_angles={n_angles}: {states} states × {1 + 2 ** n} "
-               f"exact min-max solves of {int(N)} vertex sequences", ops=states * (1 + 2 ** n) * _solve_ops(n, M),
+               f"exact {policy} min-max solves of {int(N)} vertex sequences",
+               ops=states * (1 + 2 ** n) * _solve_ops(n, M, policy),
                nbytes=8.0 * (N * M * (n + 2) * 4 + n_pairs * states * 3), hint="lower n_x, n_angles or M")
-    prob = _Problem(system, cost, M, W)
+    prob = _Problem(system, cost, M, W, policy)
     w2, a_lo = prob.w2, prob.alpha_lo
     xs = _grid(n, n_x, n_angles, x_span, math.sqrt(w2))
     rows = [prob.increment(x) for x in xs]
     V = np.array([r[0] for r in rows])
     inc = np.array([r[1] for r in rows])
     sig = np.einsum("ij,ij->i", xs, xs)
-    cert = minmax_constants(system, cost, M, W, n_samples=1)
+    cert = minmax_constants(system, cost, M, W, n_samples=1, policy=policy)
     P0 = float(cert.info["alpha_hi_inf"])
     gamma0 = V[0] / w2
     gbs = gamma0 * (1.0 + np.geomspace(1e-4, 1e4, n_pairs))
@@ -202,7 +226,7 @@ def lemma6_case(system, cost, M, W, n_x: int = 30, n_angles: int = 12, n_pairs: 
     return Lemma6Case(system, cost, M, W, best[0], r_cert, np.asarray(best[1]), np.asarray(best[2]),
                       float(ahs[k]), float(gbs[k]), bool(above[k]), bool(above.any()), points, prob.solves,
                       {"x": xs, "V": V, "increment": inc, "pairs": np.column_stack([gbs, ahs]), "ratios": R,
-                       "certified": (cert.alpha_hi_W, cert.gamma_bar_W), "P0": P0})
+                       "certified": (cert.alpha_hi_W, cert.gamma_bar_W), "P0": P0, "policy": policy})
 
 
 def _refine(prob, xs, i, ratio_of):

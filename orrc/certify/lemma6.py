@@ -81,11 +81,11 @@ def lemma6_problem(n: int, M, seed):
     return LinearSystem(A, B), QuadraticCost(Q, R), Box(lo, hi)
 
 
-def _search_run(problem, seed, n, Ms, n_x, n_angles, n_pairs, x_span):
+def _search_run(problem, seed, n, Ms, n_x, n_angles, n_pairs, x_span, policy="open-loop"):
     rng = _rng(seed)
     M = int(rng.choice(Ms))
     system, cost, W = lemma6_problem(n, M, rng)
-    c = lemma6_case(system, cost, M, W, n_x=n_x, n_angles=n_angles, n_pairs=n_pairs, x_span=x_span)
+    c = lemma6_case(system, cost, M, W, n_x=n_x, n_angles=n_angles, n_pairs=n_pairs, x_span=x_span, policy=policy)
     return {"M": M, "ratio": c.ratio, "ratio_certified": c.ratio_certified, "above_threshold": c.above_threshold,
             "any_above": c.any_above, "points": c.points, "solves": c.solves, "case": c}
 
@@ -134,7 +134,7 @@ class Lemma6Search:
 
 def lemma6_search(n: int = 1, n_problems: int = 8, M=(2, 3, 4, 6), n_x: int = 20, n_angles: int = 8,
                   n_pairs: int = 40, x_span: float = 1e3, seed: int = 0, backend: str | None = None,
-                  client=None) -> Lemma6Search:
+                  client=None, policy: str = "open-loop") -> Lemma6Search:
     """Lemma 6 tested on ``n_problems`` random LQ problems with n states (:func:`lemma6_problem`,
     the horizon drawn from ``M``), each by :func:`lemma6_case`; the largest ratio r over all.
 
@@ -146,10 +146,13 @@ def lemma6_search(n: int = 1, n_problems: int = 8, M=(2, 3, 4, 6), n_x: int = 20
     seed : the seed of the draws (problem i gets the i-th seed of ``numpy.random.SeedSequence(seed)``,
         whatever the backend).
     backend, client : :func:`orrc.sweep`'s backends ("auto", "serial", "processes", "dask").
+    policy : "open-loop" (Algorithm 3 as written) or "feedback" (feedback min-max RHC).
 
     The size (problems × states × solves × vertex sequences) is estimated and checked first.
     """
     n = as_int("n", n, minimum=1, maximum=2)
+    if policy not in ("open-loop", "feedback"):
+        raise OrrcValueError(f"policy must be 'open-loop' or 'feedback'; got {_describe(policy)}")
     n_problems = as_int("n_problems", n_problems, minimum=1, maximum=100_000)
     Ms = np.atleast_1d(np.asarray(M, dtype=object))
     if Ms.ndim != 1 or Ms.size == 0:
@@ -163,13 +166,13 @@ def lemma6_search(n: int = 1, n_problems: int = 8, M=(2, 3, 4, 6), n_x: int = 20
     N = 2.0 ** (n * (max(Ms) - 1))
     check_size(f"lemma6_search with n_problems={n_problems}, n={n}, M up to {max(Ms)}, n_x={n_x}: about "
                f"{n_problems * states * (1 + 2 ** n)} exact min-max solves of up to {int(N)} vertex sequences",
-               ops=n_problems * states * (1 + 2 ** n) * _solve_ops(n, max(Ms)),
+               ops=n_problems * states * (1 + 2 ** n) * _solve_ops(n, max(Ms), policy),
                nbytes=8.0 * n_problems * states * (n_pairs + 8), hint="lower n_problems, n_x or the horizons M")
     def run(problem, seed):
-        return _search_run(problem, seed, n, Ms, n_x, n_angles, n_pairs, x_span)
+        return _search_run(problem, seed, n, Ms, n_x, n_angles, n_pairs, x_span, policy)
 
     with warnings.catch_warnings():   # the size was checked (and warned about) above, with the search's words
         warnings.simplefilter("ignore", SizeWarning)
         table = sweep(run, {"problem": list(range(n_problems))}, seeds=1, seed=seed, backend=backend,
-                      client=client, ops_per_call=states * (1 + 2 ** n) * _solve_ops(n, max(Ms)))
+                      client=client, ops_per_call=states * (1 + 2 ** n) * _solve_ops(n, max(Ms), policy))
     return Lemma6Search(n, [row["case"] for row in table], table)

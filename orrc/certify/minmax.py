@@ -30,6 +30,12 @@ every x, with V_{W,M} the min-max value of Algorithm 3. Unlike the preview value
 The pair returned minimises Theorem 3's γ_{c,W} along the curve (with a = min_decay_rate_W), or
 the knee when no pair is below the horizon threshold ᾱ_W < α_lo √(M-1).
 
+With ``policy="feedback"`` the same is done for the feedback min-max value V^fb_{W,M} (the controller
+Lemma 6 is proved for, :class:`~orrc.MinMaxRHC` with ``policy="feedback"``): the plan L_0 x + π(w), with π
+the feedback min-max policy from x = 0, is causal, its cross terms vanish for the same reason, and the
+certified curve is the one above with V^fb_{W,M}(0) in place of V_{W,M}(0) (computed exactly on the
+scenario tree, any polytope W).
+
 The paper's remark γ̄_W = γ̄ M (from the preview constants) is not used: V_M(x, W) <= ᾱ σ + γ̄ Σ‖w‖²
 bounds max_W V_M(x, W), the max-min value, and the min-max value can be larger (an open-loop plan
 cannot react to the disturbance it will meet).
@@ -51,7 +57,7 @@ from ..systems import LinearSystem, System
 from .constants import Constants, _knee
 from .sampled import _SampledCurve
 
-__all__ = ["MinMaxConstants", "minmax_constants"]
+__all__ = ["MinMaxConstants", "minmax_constants", "maxmin_value"]
 
 #: the most vertex sequences for which V_{W,M} is computed by the exact method here (else exchange)
 EXACT_LIMIT = 2 ** 18
@@ -150,8 +156,9 @@ def _samples(n: int, count: int, top: float, rng) -> np.ndarray:
 
 
 def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=None, n_samples: int = 40,
-                     x_radius: float | None = None, seed=0, grid: int = 200) -> MinMaxConstants:
-    """ᾱ_W, γ̄_W (and Theorem 3's a, γ_{c,W}) of Algorithm 3's problem; see the module docstring.
+                     x_radius: float | None = None, seed=0, grid: int = 200,
+                     policy: str = "open-loop") -> MinMaxConstants:
+    """ᾱ_W, γ̄_W (and Theorem 3's a, γ_{c,W}) of the min-max value, Eq. (D.1); see the module docstring.
 
     Parameters
     ----------
@@ -163,6 +170,24 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
         1 for estimates).
     seed : the sampled states.
     grid : points of the Pareto curve.
+    policy : "open-loop" (Algorithm 3 as written, V_{W,M}) or "feedback" (feedback min-max, V^fb_{W,M}).
+
+    Returns
+    -------
+    MinMaxConstants
+        The pair (ᾱ_W, γ̄_W) with the smallest γ_{c,W}, the curve (``pareto``, (grid, 2)), and in ``info``
+        ``V0`` (the value at x = 0), ``gamma_bar_W_min`` (= V0/max‖w‖²) and ``samples``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2)
+    >>> W = orrc.Box(-0.3, 0.3)
+    >>> ol = certify.minmax_constants(ex.system, ex.cost, 6, W, n_samples=1)
+    >>> fb = certify.minmax_constants(ex.system, ex.cost, 6, W, n_samples=1, policy="feedback")
+    >>> bool(fb.info["gamma_bar_W_min"] < ol.info["gamma_bar_W_min"]), fb.estimate
+    (True, False)
     """
     from ..controllers.minmax import MinMaxRHC
     from ..solvers.minmax import check_set, vertex_count
@@ -170,6 +195,8 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
     check_problem(system, cost)
     M = as_int("M", M, minimum=2)
     W = check_set(W, system.n)
+    if policy not in ("open-loop", "feedback"):
+        raise OrrcValueError(f"policy must be 'open-loop' or 'feedback'; got {policy!r}")
     n_samples = as_int("n_samples", n_samples, minimum=1)
     grid = as_int("grid", grid, minimum=20)
     if x_radius is not None:
@@ -187,8 +214,11 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
                hint="lower n_samples or grid")
     rng = _rng(seed)
     certified = isinstance(system, LinearSystem) and isinstance(cost, QuadraticCost) and input_bounds is None
-    rhc_method = "exact" if (certified and isinstance(W, Box) and vertex_count(W, M) <= EXACT_LIMIT) else "auto"
-    rhc = MinMaxRHC(system, cost, M, W, input_bounds=input_bounds, method=rhc_method, seed=seed)
+    if policy == "feedback":
+        rhc = MinMaxRHC(system, cost, M, W, input_bounds=input_bounds, seed=seed, policy="feedback")
+    else:
+        exact = certified and isinstance(W, Box) and vertex_count(W, M) <= EXACT_LIMIT
+        rhc = MinMaxRHC(system, cost, M, W, input_bounds=input_bounds, method="exact" if exact else "auto", seed=seed)
     top = x_radius if x_radius is not None else (1e4 * math.sqrt(w2) if certified else 1.0)
     xs = _samples(system.n, n_samples, top, rng)
     with warnings.catch_warnings():
@@ -243,9 +273,10 @@ def _certified_curve(system, cost, M, W, rhc, info):
     P0 = _backward_gains(system.A, system.B, np.broadcast_to(cost.Q, (M, n, n)),
                          np.broadcast_to(cost.R, (M, m, m)), None)[0][0]
     w2 = W.max_norm_sq
-    if isinstance(W, Box) and rhc.method == "exact":
+    if rhc.method == "exact":
         V0 = float(rhc.plan(np.zeros(n)).upper)
-        how = "V_(W,M)(0) exact (vertex method)"
+        how = ("V^fb_(W,M)(0) exact (scenario tree)" if rhc.policy == "feedback"
+               else "V_(W,M)(0) exact (vertex method)")
     else:
         G = Gw.T @ Qb @ Gw
         V0 = float(np.linalg.eigvalsh(0.5 * (G + G.T))[-1]) * (M - 1) * w2
@@ -254,3 +285,70 @@ def _certified_curve(system, cost, M, W, rhc, info):
                  "gamma_bar_W_min": V0 / w2})
     method = f"certified: V_(W,M)(x) <= xᵀ(P_0 + εFFᵀ)x + (V_(W,M)(0)/w̄² + (M-1)/ε) w̄², {how}"
     return _YoungCurve(P0, F, V0 / w2, M - 1), method
+
+
+#: the most vertex sequences :func:`maxmin_value` enumerates
+MAXMIN_LIMIT = 2 ** 20
+
+
+def maxmin_value(system: LinearSystem, cost: QuadraticCost, M: int, W, x=None) -> float:
+    """The max-min value max_{w̃_0..w̃_{M-1} ∈ W} V_M(x, w̃) of Eq. (3): the worst case of the preview value.
+
+    V_M(x, W) (Algorithm 1's value, the plan chosen knowing the disturbance) is a convex quadratic in
+    the disturbance sequence, so its maximum over a polytope W is at a vertex sequence; the last
+    disturbance is not costed, so the V^{M-1} sequences of the costed ones are enumerated, in one
+    vectorised pass (V_M(x, W) = k(W) - g(W)ᵀH⁻¹g(W) from the condensed prediction). The count is
+    checked first (at most ``MAXMIN_LIMIT`` = 2^20 sequences, and ``orrc.config``'s limits).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    cost : QuadraticCost
+    M : int
+        The horizon (>= 1).
+    W : Box or Polytope
+        The disturbance set.
+    x : array_like, shape (n,), optional
+        The state (default 0).
+
+    Returns
+    -------
+    float
+        max-min value; max-min <= feedback min-max <= open-loop min-max.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> ex = orrc.examples.scalar_unstable(A=1.2)
+    >>> round(certify.maxmin_value(ex.system, ex.cost, 2, orrc.Box(-0.3, 0.3)), 6)
+    0.045
+    """
+    from ..solvers.minmax import _block_diag, check_set, condensed
+    from ..solvers.scenario_tree import tree_vertices
+
+    check_problem(system, cost, linear=True, quadratic=True, who="maxmin_value")
+    M = as_int("M", M, minimum=1)
+    W = check_set(W, system.n)
+    n, m = system.n, system.m
+    x = np.zeros(n) if x is None else as_array("x", x, (n,))
+    verts = tree_vertices(W)
+    V = len(verts)
+    count = float(V) ** (M - 1)
+    if count > MAXMIN_LIMIT:
+        raise OrrcValueError(f"maxmin_value at M={M} with {V} vertices of W enumerates {count:.3g} vertex sequences; "
+                             f"the limit is {MAXMIN_LIMIT} (orrc.certify.minmax.MAXMIN_LIMIT): use a shorter horizon M")
+    N = int(count)
+    check_size(f"maxmin_value at M={M}: {N} vertex sequences", nbytes=8.0 * N * M * (n + m) * 4,
+               ops=4.0 * N * (M * n) * (M * (n + m)), hint="use a shorter horizon M")
+    Phi, Gu, Gw = condensed(system.A, system.B, M)
+    Qb = _block_diag(np.broadcast_to(cost.Q, (M, n, n)))
+    Rb = _block_diag(np.broadcast_to(cost.R, (M, m, m)))
+    H = Gu.T @ Qb @ Gu + Rb
+    idx = (np.arange(N)[:, None] // V ** np.arange(M - 2, -1, -1)) % V if M > 1 else np.zeros((1, 0), int)
+    seqs = verts[idx].reshape(N, (M - 1) * n)
+    c = (Phi @ x)[None, :] + seqs @ Gw[:, :(M - 1) * n].T          # (N, Mn): the states' free response
+    g = c @ Qb @ Gu                                                 # (N, Mm)
+    k = np.einsum("si,ij,sj->s", c, Qb, c)
+    vals = k - np.einsum("si,si->s", g, np.linalg.solve(H, g.T).T)
+    return float(vals.max())

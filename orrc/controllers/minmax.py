@@ -8,15 +8,17 @@ import numpy as np
 from .._validate import OrrcValueError, as_array, as_float, as_int, as_seed
 from .._problem import check_problem
 from ..costs import QuadraticCost, StageCost
-from ..disturbances import Box
+from ..disturbances import Box, Polytope
 from ..systems import LinearSystem, System
 from ..solvers.minmax import AUTO_EXACT_LIMIT, MinMaxPlan, VertexEpigraph, check_set, vertex_count
 from ..solvers.plan import SolverWarning
+from ..solvers.scenario_tree import ScenarioTree
 from .base import Controller, Decision, Observation
 from .failures import DEFAULT_MAX_FAILURES, FailureLadder
 from ._preview_setup import _bounds
 
 METHODS = ("auto", "exact", "exchange", "game")
+POLICIES = ("open-loop", "feedback")
 
 
 class MinMaxRHC(Controller):
@@ -29,13 +31,29 @@ class MinMaxRHC(Controller):
     ``preview_c = M``: the simulator hands it no future w), and apply the first input
     u_t = κ_{W,M}(x_t). The optimal value is V^t_{W,M}(x_t).
 
+    Open-loop (Algorithm 3 as written) and feedback min-max are two policies of one solver:
+
+    * ``policy="open-loop"`` (default): the minimum is over input *sequences* ũ_t..ũ_{t+M-1}, chosen
+      before any disturbance (the paper's problem);
+    * ``policy="feedback"``: the minimum is over causal *policies*, ũ_j may depend on x̃_t..x̃_j
+      (Scokaert and Mayne, 1998), the controller for which Lemma 6 is proved. For a
+      :class:`~orrc.LinearSystem`, a :class:`~orrc.QuadraticCost` and a polytope W (an
+      :class:`~orrc.Box` or an :class:`~orrc.Polytope`) it is one convex program on the scenario tree of
+      W's vertices (:class:`orrc.solvers.scenario_tree.ScenarioTree`), exact; its value is
+      V^fb_{W,M}(x) <= V_{W,M}(x). Only the root input is applied. The tree has 1 + V + ... + V^{M-1}
+      nodes (V vertices); past ``orrc.solvers.scenario_tree.TREE_NODE_LIMIT`` it is refused with an
+      :class:`~orrc.OrrcValueError`. Nonlinear systems, other costs and balls are refused.
+
     Parameters
     ----------
     system, cost : the model and the stage-cost family.
     M : the horizon (M >= 1).
-    W : the disturbance set, an :class:`~orrc.Box` or :class:`~orrc.Ball` of dimension n.
+    W : the disturbance set, an :class:`~orrc.Box` or :class:`~orrc.Ball` of dimension n (or an
+        :class:`~orrc.Polytope` with ``policy="feedback"``).
     input_bounds : (lo, hi), the set U (scalars or length-m arrays).
-    method : "auto" (default), "exact", "exchange" or "game":
+    policy : "open-loop" (default) or "feedback", see above.
+    method : "auto" (default), "exact", "exchange" or "game" (with ``policy="feedback"``: "auto" or
+        "exact", both the scenario tree):
 
         * "exact" -- the vertex epigraph (:class:`orrc.solvers.minmax.VertexEpigraph`): a
           LinearSystem, a QuadraticCost and a box W; lower and upper bounds certified;
@@ -56,6 +74,22 @@ class MinMaxRHC(Controller):
     max_failures : consecutive failed steps before :class:`~orrc.SolverError` (the failure ladder of
         :mod:`orrc.controllers.failures`; None: never stop).
 
+    Returns
+    -------
+    MinMaxRHC
+        A controller for :func:`orrc.simulate`; :meth:`plan` solves one M-step problem.
+
+    Examples
+    --------
+    >>> import numpy as np, orrc
+    >>> ex = orrc.examples.scalar_unstable(A=1.2)
+    >>> W = orrc.Box(-0.3, 0.3)
+    >>> open_loop = orrc.MinMaxRHC(ex.system, ex.cost, 4, W)
+    >>> feedback = orrc.MinMaxRHC(ex.system, ex.cost, 4, W, policy="feedback")
+    >>> v_ol, v_fb = open_loop.plan(np.zeros(1)).value, feedback.plan(np.zeros(1)).value
+    >>> bool(v_fb < v_ol), round(v_fb, 4)
+    (True, 0.5274)
+
     A closed loop (``orrc.simulate``) warm-starts each step from the last successful plan (its
     inputs and its active scenarios or vertex sequences, shifted) and records, per step, the
     bounds, the iterations, the scenario and evaluation counts and the worst-case disturbance
@@ -70,15 +104,24 @@ class MinMaxRHC(Controller):
 
     def __init__(self, system: System, cost: StageCost, M: int, W, input_bounds=None, method: str = "auto",
                  tol: float | None = None, gamma: float | None = None, seed=0, exchange_options: dict | None = None,
-                 max_failures: int | None = DEFAULT_MAX_FAILURES):
+                 max_failures: int | None = DEFAULT_MAX_FAILURES, policy: str = "open-loop"):
         check_problem(system, cost)
         self.M = as_int("M", M, minimum=1)
         self.system, self.cost = system, cost
         self.W = check_set(W, system.n)
         self.preview_w, self.preview_c = 0, self.M
         self.input_bounds = _bounds("input_bounds", input_bounds, system.m)
+        if policy not in POLICIES:
+            raise OrrcValueError(f"policy must be one of {list(POLICIES)}; got {policy!r}")
+        self.policy = policy
         if method not in METHODS:
             raise OrrcValueError(f"method must be one of {list(METHODS)}; got {method!r}")
+        if policy == "feedback":
+            self._init_feedback(method, seed, max_failures)
+            return
+        if isinstance(self.W, Polytope):
+            raise OrrcValueError("W is an orrc.Polytope: the open-loop methods take an orrc.Box or an orrc.Ball; "
+                                 "use policy='feedback' (the scenario tree over the polytope's vertices) or a box")
         if exchange_options is not None and not isinstance(exchange_options, dict):
             raise OrrcValueError(f"exchange_options must be a dict; got {type(exchange_options).__name__}")
         lq = isinstance(system, LinearSystem) and isinstance(cost, QuadraticCost)
@@ -116,6 +159,27 @@ class MinMaxRHC(Controller):
             from ..solvers import game
 
             self._game = game.finite_horizon_game(system.A, system.B, cost.Q, cost.R, self.gamma, self.M)
+        self._ladder = FailureLadder(self.M, max_failures, name=self.name)
+        self.reset()
+
+    def _init_feedback(self, method, seed, max_failures) -> None:
+        """policy="feedback": the scenario tree of W's vertices (linear system, quadratic cost, polytope W)."""
+        system, cost = self.system, self.cost
+        if not (isinstance(system, LinearSystem) and isinstance(cost, QuadraticCost)):
+            raise OrrcValueError(
+                "policy='feedback' needs a LinearSystem and a QuadraticCost (the worst case of a convex cost over a "
+                f"polytope sits at its vertices, so the scenario tree is exact); got {type(system).__name__}, "
+                f"{type(cost).__name__}: for a nonlinear system use policy='open-loop' with method='exchange'")
+        if not isinstance(self.W, (Box, Polytope)):
+            raise OrrcValueError(f"policy='feedback' needs a polytope W (an orrc.Box or an orrc.Polytope); got "
+                                 f"{type(self.W).__name__}")
+        if method not in ("auto", "exact"):
+            raise OrrcValueError(f"policy='feedback' solves the scenario tree exactly: method must be 'auto' or "
+                                 f"'exact'; got {method!r}")
+        as_seed("seed", seed)
+        self.seed, self.gamma, self.method = seed, None, "exact"
+        self.name = "feedback min-max RHC"
+        self._solver = ScenarioTree(system, cost, self.M, self.W, self.input_bounds)
         self._ladder = FailureLadder(self.M, max_failures, name=self.name)
         self.reset()
 
@@ -181,13 +245,16 @@ class MinMaxRHC(Controller):
         from ``prev`` (a successful plan k steps old) when given, then cold."""
         rungs = []
         if prev is not None:
-            rungs.append(("warm start", lambda: self._solve(x, P, prev, k)))
+            if self.policy == "open-loop":      # the tree program has no warm start
+                rungs.append(("warm start", lambda: self._solve(x, P, prev, k)))
         rungs.append(("cold start", lambda: self._solve(x, P, None, 0)))
         return rungs
 
     def _solve(self, x, P, prev: MinMaxPlan | None, k: int) -> MinMaxPlan:
         """One solve; ``prev`` (a plan k >= 1 steps old) shifted by k stages is the warm start."""
         M = self.M
+        if self.policy == "feedback":
+            return self._solver.solve(x, P)
         guess = None if prev is None else np.vstack([prev.inputs[k:], np.repeat(prev.inputs[-1:], k, axis=0)])
         if self.method == "exact":
             working = None if prev is None else self._solver.shift(prev.extra.get("active", []), k)
@@ -261,7 +328,8 @@ class MinMaxRHC(Controller):
                 "worst_w": np.array([p.worst_w for p in log])}
 
     def __repr__(self):
-        return f"MinMaxRHC(M={self.M}, method={self.method!r}, W={self.W!r}, system={self.system!r})"
+        return (f"MinMaxRHC(M={self.M}, policy={self.policy!r}, method={self.method!r}, W={self.W!r}, "
+                f"system={self.system!r})")
 
 
 _EXCHANGE_KEYS = ("max_iter", "n_starts", "max_scenarios", "solver", "solver_options", "verify_factor", "atol")

@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validate import OrrcValueError, check_size
-from ..disturbances import Ball, Box
+from ..disturbances import Ball, Box, Polytope
 from .plan import Plan
 
 __all__ = ["MinMaxPlan", "VertexEpigraph", "check_set", "vertex_count", "AUTO_EXACT_LIMIT"]
@@ -96,12 +96,27 @@ class MinMaxPlan(Plan):
 
 
 def check_set(W, n: int):
-    """``W`` when it is an :class:`~orrc.Box` or :class:`~orrc.Ball` of dimension n with finite
-    bounds, else an :class:`~orrc.OrrcValueError` naming W (the disturbance set of Assumption 1:
-    compact, so bounded and non-empty)."""
-    if not isinstance(W, (Box, Ball)):
-        raise OrrcValueError(f"W must be an orrc.Box(lo, hi) or orrc.Ball(radius, n), the compact disturbance set; "
-                             f"got {type(W).__name__}")
+    """``W`` checked as the compact disturbance set of Assumption 1.
+
+    Parameters
+    ----------
+    W : Box, Ball or Polytope (a box needs finite bounds and lo <= hi, a ball a finite radius)
+    n : int, the state dimension (w_t enters the state)
+
+    Returns
+    -------
+    Box, Ball or Polytope: ``W`` itself; an :class:`~orrc.OrrcValueError` naming W otherwise.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.solvers.minmax import check_set
+    >>> check_set(orrc.Box(-0.3, 0.3), 1)
+    Box(lo=[-0.3], hi=[0.3])
+    """
+    if not isinstance(W, (Box, Ball, Polytope)):
+        raise OrrcValueError(f"W must be an orrc.Box(lo, hi), orrc.Ball(radius, n) or orrc.Polytope(vertices), the "
+                             f"compact disturbance set; got {type(W).__name__}")
     if W.n != n:
         raise OrrcValueError(f"W must have the state dimension n={n} (w_t enters the state); got a set in R^{W.n}")
     if isinstance(W, Box):
@@ -109,7 +124,7 @@ def check_set(W, n: int):
             raise OrrcValueError(f"W must be bounded (compact); got a box with lo={W.lo}, hi={W.hi}")
         if np.any(W.lo > W.hi):
             raise OrrcValueError(f"W is empty: a box needs lo <= hi in every coordinate; got lo={W.lo}, hi={W.hi}")
-    elif not (math.isfinite(W.radius) and W.radius >= 0):
+    elif isinstance(W, Ball) and not (math.isfinite(W.radius) and W.radius >= 0):
         raise OrrcValueError(f"W must be a ball with a finite radius >= 0; got radius={W.radius}")
     return W
 
