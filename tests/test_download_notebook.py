@@ -109,7 +109,7 @@ def test_every_role_and_directive_becomes_text():
     md = "\n\n".join(c.source for c in nb.cells if c.cell_type == "markdown")
     assert raw_markup(nb) == [], raw_markup(nb)
     for shown in ("As Smith (2020) showed (cited: smith2020; doe2019)", "the gap is\n1.3 (see Lemma 3, the lemma, (2),",
-                  "A chapter, Fig. 4 and `orrc.simulate()`, `Plan`", "**Lemma 3** (A bound)", "\\tag{2}\n$$",
+                  "*A chapter*, Fig. 4 and `orrc.simulate()`, `Plan`", "**Lemma 3** (A bound)", "\\tag{2}\n$$",
                   "x \\le 1.2500001", "**Proof.**", "**Exercise 1**", "**Solution to Exercise 1**", "Done, 1.",
                   "> **Note**", "`{ref}` written as code", "**References**\n\n* smith2020\n* doe2019"):
         assert shown in md, f"{shown!r} not in the Markdown:\n{md}"

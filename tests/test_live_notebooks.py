@@ -39,7 +39,7 @@ JUPYTER_LAB = Path(sys.executable).parent / "jupyter-lab"
 RUN_ALL_TIMEOUT = 300_000   # ms, one chapter at the test size on a busy 2-core machine
 EXPRESSIONS_TIMEOUT = 10_000   # ms, the last Markdown cells' expressions after the last code cell ran
 CHAPTERS = ["book/problem", "book/lemma2", "book/preview_rhc"]   # three of the shorter runs
-# the what-if edit of issue 25: Algorithm 1's torque bound, ±8 -> ±12; the plan then no longer
+# the what-if edit: Algorithm 1's torque bound, ±8 -> ±12; the plan then no longer
 # starts at the bound, which the text claims for ±8
 WHAT_IF = ("book/preview_rhc", r"u_bounds = \(-8\.0, 8\.0\)", "u_bounds = (-12.0, 12.0)",
            "the plan starts at the bound")

@@ -143,8 +143,8 @@ class _Renderer:
             return f"`{shown}`"
         if role in ("ref", "numref", "eq", "doc", "prf:ref", "term", "any") or ":" in role:
             resolved = self.r.xref(role, target, title)
-            if resolved is not None:
-                return resolved
+            if resolved is not None:   # a section's or page's title in italics, as a link's text reads
+                return f"*{resolved}*" if role in ("ref", "doc") and title is None else resolved
             if title is not None:
                 return title
             raise UnresolvedError(f"{{{role}}}`{text}`: no such target in the book")

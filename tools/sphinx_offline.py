@@ -134,6 +134,7 @@ def drop_dead_assets(app: Sphinx, pagename, templatename, context, doctree) -> N
             files[:] = [f for f in files if not _is_dead(f)]
 
 
+REPOSITORY = Path(__file__).resolve().parents[1]
 READER_REQUIREMENTS = "requirements-reader.txt"   # pinned, at the repository's root
 INSTALL = f"pip install -r {READER_REQUIREMENTS}"   # tests/test_downloads.py installs exactly what this says
 DOWNLOAD_NOTE = ("*{title}*, a chapter of the book *Online Learning Robust Control*, as a plain "
@@ -301,7 +302,7 @@ def reader_files(app: Sphinx) -> list[Path]:
 
     if getattr(app, "_orrc_reader", None):
         return app._orrc_reader
-    root = Path(app.srcdir)
+    root = REPOSITORY   # not the source folder: the solution-free edition builds from a copy of book/
     out = Path(app.outdir).parent / "_reader"
     shutil.rmtree(out, ignore_errors=True)
     out.mkdir(parents=True)
