@@ -134,7 +134,22 @@ def drop_dead_assets(app: Sphinx, pagename, templatename, context, doctree) -> N
             files[:] = [f for f in files if not _is_dead(f)]
 
 
-REPOSITORY = Path(__file__).resolve().parents[1]
+def repository(app: Sphinx) -> Path:
+    """The folder of the project's ``pyproject.toml``, ``orrc/`` and ``requirements-reader.txt``: the
+    book's source folder, else the one of the ``orrc`` package the build imports (the solution-free
+    edition builds from a copy of ``book/`` and ``tools/`` only)."""
+    from importlib.util import find_spec
+
+    spec = find_spec("orrc")
+    candidates = [Path(app.srcdir), Path(__file__).resolve().parents[1]]
+    if spec is not None and spec.origin:
+        candidates.append(Path(spec.origin).resolve().parents[1])
+    for folder in candidates:
+        if all((folder / name).exists() for name in ("pyproject.toml", "orrc", READER_REQUIREMENTS)):
+            return folder
+    raise ExtensionError(f"no project folder with pyproject.toml, orrc/ and {READER_REQUIREMENTS} among {candidates}")
+
+
 READER_REQUIREMENTS = "requirements-reader.txt"   # pinned, at the repository's root
 INSTALL = f"pip install -r {READER_REQUIREMENTS}"   # tests/test_downloads.py installs exactly what this says
 DOWNLOAD_NOTE = ("*{title}*, a chapter of the book *Online Learning Robust Control*, as a plain "
@@ -302,7 +317,7 @@ def reader_files(app: Sphinx) -> list[Path]:
 
     if getattr(app, "_orrc_reader", None):
         return app._orrc_reader
-    root = REPOSITORY   # not the source folder: the solution-free edition builds from a copy of book/
+    root = repository(app)
     out = Path(app.outdir).parent / "_reader"
     shutil.rmtree(out, ignore_errors=True)
     out.mkdir(parents=True)
