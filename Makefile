@@ -45,9 +45,10 @@ $(AXE): tools/axe/package.json tools/axe/package-lock.json
 	touch $(AXE)
 
 # the whole suite; it builds its own, shortened, book into _build/test (never _build/html); with
-# make lab's JupyterLab, which tests/test_live_notebooks.py drives in Chromium, and axe-core
+# make lab's JupyterLab, which tests/test_live_notebooks.py drives in Chromium, and axe-core.
+# It ends with the slowest tests, the background jobs and the critical path (tests/conftest.py).
 test: $(STAMP) $(LAB_STAMP) $(AXE)
-	set -eo pipefail; ORRC_QUICK=1 $(PY) -m pytest -q --durations=15 tests
+	set -eo pipefail; ORRC_QUICK=1 $(PY) -m pytest -q --durations=30 tests
 
 # JupyterLab (pinned, requirements-lab.txt) in the same .venv, chapters open as notebooks
 $(LAB_STAMP): $(STAMP) requirements-lab.txt tools/jupyterlab-overrides.json

@@ -37,6 +37,111 @@ def tree_fingerprint(folder: Path):
                   for p in folder.rglob("*") if p.is_file())
 
 
+# ---------------------------------------------------------------- the session's timeline
+# When each background job (the book's build, the gradings, the jobs that wait on them) ran, and when
+# the tests in the main thread waited for one: printed at the end of the run with the slowest tests
+# and the critical path (pytest_terminal_summary), and written to _build/test-timeline.json.
+_T0 = time.time()
+_JOBS: dict[str, dict] = {}
+_WAITS: list[dict] = []
+_TESTS: list[dict] = []
+_TIMELINE_LOCK = threading.Lock()
+
+
+class timed:
+    """``with timed(name, after=...)``: record when the background job ``name`` ran (``after``: the
+    job it waited for before it started)."""
+
+    def __init__(self, name: str, after: str | None = None):
+        self.name, self.after = name, after
+
+    def __enter__(self):
+        self.start = time.time()
+
+    def __exit__(self, *exc):
+        with _TIMELINE_LOCK:
+            _JOBS[self.name] = {"start": self.start - _T0, "end": time.time() - _T0, "after": self.after}
+
+
+def _wait_for(name: str, future):
+    """``future.result()``, recording how long the main thread waited for it."""
+    if threading.current_thread() is not threading.main_thread() or future.done():
+        return future.result()
+    start = time.time()
+    try:
+        return future.result()
+    finally:
+        with _TIMELINE_LOCK:
+            _WAITS.append({"job": name, "start": start - _T0, "end": time.time() - _T0})
+
+
+def pytest_sessionstart(session):
+    global _T0
+    _T0 = time.time()
+
+
+def pytest_runtest_logreport(report):
+    with _TIMELINE_LOCK:
+        _TESTS.append({"id": report.nodeid, "when": report.when, "start": report.start - _T0,
+                       "end": report.stop - _T0})
+
+
+def critical_path(end: float, jobs: dict, waits: list[dict]) -> list[tuple[str, float, float]]:
+    """The chain of work that decided the session's length, as (what, start, end) seconds from the
+    session's start: the background job the tests waited for last, what that job waited for before
+    it started, and the tests in the main thread after it; without a wait, the tests alone."""
+    if not waits:
+        return [("the tests in the main thread", 0.0, end)]
+    last = max(waits, key=lambda w: w["end"])
+    chain, name = [], last["job"]
+    while name in jobs:
+        chain.insert(0, (name, jobs[name]["start"], jobs[name]["end"]))
+        name = jobs[name]["after"]
+    if chain and chain[0][1] > 0.5:
+        chain.insert(0, ("collection and the tests before it", 0.0, chain[0][1]))
+    chain.append(("the tests after it", last["end"], end))
+    return chain
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    """The slowest tests, the background jobs and the critical path, at the end of the run."""
+    import json
+
+    end = time.time() - _T0
+    with _TIMELINE_LOCK:
+        tests, jobs, waits = list(_TESTS), dict(_JOBS), list(_WAITS)
+    if not tests:
+        return
+    per_test: dict[str, float] = {}
+    for t in tests:
+        per_test[t["id"]] = per_test.get(t["id"], 0.0) + t["end"] - t["start"]
+    waited = sum(w["end"] - w["start"] for w in waits)
+    tr = terminalreporter
+    tr.section("the suite's time")
+    tr.write_line(f"{end:.0f} s in all; {len(per_test)} tests; the main thread waited {waited:.0f} s for background jobs")
+    tr.write_line("slowest tests (setup + call + teardown, waits for a background job included):")
+    for nodeid, seconds in sorted(per_test.items(), key=lambda kv: -kv[1])[:15]:
+        tr.write_line(f"  {seconds:7.1f} s  {nodeid}")
+    modules: dict[str, float] = {}
+    for nodeid, seconds in per_test.items():
+        modules[nodeid.split("::")[0]] = modules.get(nodeid.split("::")[0], 0.0) + seconds
+    tr.write_line("slowest test files:")
+    for module, seconds in sorted(modules.items(), key=lambda kv: -kv[1])[:10]:
+        tr.write_line(f"  {seconds:7.1f} s  {module}")
+    if jobs:
+        tr.write_line("background jobs (seconds from the session's start):")
+        for name, j in sorted(jobs.items(), key=lambda kv: kv[1]["start"]):
+            w = sum(x["end"] - x["start"] for x in waits if x["job"] == name)
+            tr.write_line(f"  {name:<18} {j['start']:6.0f} -> {j['end']:6.0f}  ({j['end'] - j['start']:5.0f} s;"
+                          f" the tests waited {w:4.0f} s for it)")
+    path = critical_path(end, jobs, waits)
+    tr.write_line("critical path: " + " -> ".join(f"{n} {a:.0f}-{b:.0f} s" for n, a, b in path))
+    BUILD_ROOT.mkdir(parents=True, exist_ok=True)
+    (BUILD_ROOT / "test-timeline.json").write_text(json.dumps(
+        {"seconds": end, "jobs": jobs, "waits": waits, "critical_path": path,
+         "slowest": sorted(per_test.items(), key=lambda kv: -kv[1])[:30]}, indent=1))
+
+
 _BOOK = {}
 
 
@@ -52,7 +157,8 @@ def _start_book():
         published = tree_fingerprint(PUBLISHED_HTML)
         started, t0 = time.time(), time.perf_counter()
         # build() sets ORRC_BOOK_BUILD=1 for the chapters (static frames, no progress bars in the outputs)
-        rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")})
+        with timed("book build"):
+            rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")})
         return {"rc": rc, "seconds": time.perf_counter() - t0, "started": started, "published": published}
 
     pool = ThreadPoolExecutor(max_workers=1)
@@ -227,8 +333,12 @@ def _start_grading(wanted=frozenset()):
     pool = ThreadPoolExecutor(max_workers=1, initializer=_yield_to_the_critical_path)
     # every notebook is graded by the otter of a fresh environment built from the autograder zip
     # alone (tests/fresh_env.py: built once, shared by every assignment, reused while nothing changes)
+    def grade(*args, **kwargs):
+        with timed("gradings"):
+            return assignments.run_all(*args, **kwargs)
+
     _GRADING["future"] = pool.submit(
-        assignments.run_all, BOOK_OUT / "_build" / "assignments",
+        grade, BOOK_OUT / "_build" / "assignments",
         extra=lambda n: {p.stem[len(n) + 1:]: p for p in sorted(fixtures.glob(f"{n}_wrong*.md"))},
         python=lambda paths: str(autograder_env(paths["autograder"])))
     _start_after("graded", set(wanted), pool)
@@ -247,11 +357,16 @@ _AFTER = {"book": {}, "graded": {}}
 _BACKGROUND = {}
 
 
-def after(what: str, name: str):
+_ORDER: dict[str, int] = {}
+
+
+def after(what: str, name: str, order: int = 0):
     """Register ``fn(result of what)`` as the value of the session fixture ``name``, computed in the
-    background once ``what`` ("book" or "graded") is ready (see above)."""
+    background once ``what`` ("book" or "graded") is ready (see above); jobs start in increasing
+    ``order`` (the longest first, so that it is not left to run alone at the end)."""
     def register(fn):
         _AFTER[what][name] = fn
+        _ORDER[name] = order
         return fn
     return register
 
@@ -262,13 +377,18 @@ def background(name: str):
     if name not in _BACKGROUND:
         what, fn = next((w, fns[name]) for w, fns in _AFTER.items() if name in fns)
         return fn(_waited(what))
-    return _BACKGROUND[name].result()
+    return _wait_for(name, _BACKGROUND[name])
 
 
 def _start_after(what: str, names: set[str], pool) -> None:
-    for name, fn in _AFTER[what].items():
+    def job(name, fn):
+        result = _waited(what)
+        with timed(name, after="book build" if what == "book" else "gradings"):
+            return fn(result)
+
+    for name, fn in sorted(_AFTER[what].items(), key=lambda kv: _ORDER[kv[0]]):
         if name in names:
-            _BACKGROUND[name] = pool.submit(lambda fn=fn: fn(_waited(what)))
+            _BACKGROUND[name] = pool.submit(job, name, fn)
 
 
 def _waited(what: str):
@@ -293,7 +413,9 @@ def pytest_collection_modifyitems(session, config, items):
         _start_book()
         from concurrent.futures import ThreadPoolExecutor
 
-        pool = ThreadPoolExecutor(max_workers=1)    # one at a time: they share the 2 cores with the tests
+        # two at a time (the downloads' kernels and the browser's pages wait on other processes
+        # much of the time); more would only share the same cores
+        pool = ThreadPoolExecutor(max_workers=2)
         _start_after("book", wanted, pool)
         pool.shutdown(wait=False)
     if graded:
@@ -303,13 +425,13 @@ def pytest_collection_modifyitems(session, config, items):
 def book_result():
     if "future" not in _BOOK:
         _start_book()
-    return _BOOK["future"].result()
+    return _wait_for("book build", _BOOK["future"])
 
 
 def graded_result():
     if "future" not in _GRADING:
         _start_grading()
-    return {r["name"]: r for r in _GRADING["future"].result()}
+    return {r["name"]: r for r in _wait_for("gradings", _GRADING["future"])}
 
 
 @pytest.fixture(scope="session")

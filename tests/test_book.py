@@ -7,7 +7,8 @@ set; tests/test_chapters.py checks the executed notebooks of the same build. The
 
 * without a browser: the build succeeded; no page loads a script, stylesheet, image
   or frame from the network (MathJax 3 is shipped in ``_static/mathjax``); no Thebe;
-  every chapter has a valid ``.ipynb`` download holding the chapter's code cells;
+  every chapter has a valid ``.ipynb`` download holding the code cells the page shows, with
+  the pinned requirements and the ``orrc`` wheel it installs from beside it and linked from the page;
   the execution-times page lists every chapter; no page is heavier than 3 MB;
 * in headless Chromium (Playwright driving the SYSTEM Chromium, never a downloaded
   one): every page of ``_toc.yml`` opens from ``file://`` without console errors or
@@ -19,6 +20,9 @@ set; tests/test_chapters.py checks the executed notebooks of the same build. The
   and every element that runs past the text column sits in a box that scrolls, shows a cue and
   takes keyboard focus. Every image has a text alternative; the execution table's
   status marks need no emoji font.
+
+The pages are checked in the background as soon as the book is built, in one Chromium (Playwright's
+async API), one page per core at a time (:data:`PARALLEL_PAGES`); each page's test reads its result.
 
 No Chromium: the browser tests are skipped with a message saying how to enable them,
 except when ``CI`` is set, where a missing browser is a failure.
@@ -33,8 +37,8 @@ from pathlib import Path
 
 import pytest
 
-from conftest import BOOK_HTML as HTML, BOOK_OUT, PUBLISHED_HTML, SHOTS, tree_fingerprint
-from tools.sphinx_offline import portable_source
+from conftest import BOOK_HTML as HTML, BOOK_OUT, HOW_TO_ENABLE, PUBLISHED_HTML, SHOTS, after, background, find_chromium, tree_fingerprint
+from tools.download import portable_source
 from tools.toc import notebook_pages, toc_pages
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -141,19 +145,25 @@ def test_no_page_loads_anything_from_the_network(book):
     assert pages_with_math >= 1, "no page loads MathJax at all: is math rendered?"
 
 
-def _code_cells_in_myst(text: str) -> list[str]:
-    """The sources of the ```{code-cell} blocks of a MyST notebook, read with a regex (not jupytext)."""
+def _code_cells_in_myst(text: str) -> list[tuple[str, set[str]]]:
+    """(source, tags) of the ```{code-cell} blocks of a MyST notebook, read with a regex (not jupytext)."""
     cells = []
     for m in re.finditer(r"^(`{3,})\{code-cell\}[^\n]*\n(.*?)^\1[ \t]*$", text, re.S | re.M):
         body = m.group(2)
         lines = body.split("\n")
+        options = []
         if lines and lines[0].startswith("---"):  # YAML options block
             end = lines.index("---", 1)
-            lines = lines[end + 1:]
+            options, lines = lines[1:end], lines[end + 1:]
         else:
             while lines and lines[0].startswith(":") and ":" in lines[0][1:]:
-                lines = lines[1:]  # short-form options (:tags: [...])
-        cells.append("\n".join(lines).strip())
+                options, lines = options + [lines[0]], lines[1:]  # short-form options (:tags: [...])
+        tags = set()
+        for opt in options:
+            found = re.match(r"^:?tags:\s*\[(.*)\]\s*$", opt.strip())
+            if found:
+                tags = {t.strip().strip("'\"") for t in found.group(1).split(",") if t.strip()}
+        cells.append(("\n".join(lines).strip(), tags))
     return cells
 
 
@@ -166,9 +176,11 @@ def test_every_chapter_offers_its_ipynb(book, page):
     nb = nbformat.read(nb_path, as_version=4)
     nbformat.validate(nb)
     code = [c.source.strip() for c in nb.cells if c.cell_type == "code"]
-    expected = [portable_source(c) for c in _code_cells_in_myst((ROOT / f"{page}.md").read_text(encoding="utf-8"))]
+    # the code cells the page shows (not the build's remove-cell ones), made portable
+    expected = [portable_source(c).strip() for c, tags in _code_cells_in_myst((ROOT / f"{page}.md").read_text(encoding="utf-8"))
+                if "remove-cell" not in tags]
     assert expected, f"{page} has no code cells?"
-    assert code == expected, f"{page}.ipynb does not hold the chapter's code cells"
+    assert code == expected, f"{page}.ipynb does not hold the code cells the page shows"
     # it runs wherever orrc is installed: no import of the book's build tools, and it says so first
     for c in code:
         tree = ast.parse("\n".join(line for line in c.splitlines() if not line.lstrip().startswith(("%", "!"))))
@@ -185,6 +197,11 @@ def test_every_chapter_offers_its_ipynb(book, page):
     html_text = (HTML / f"{page}.html").read_text(encoding="utf-8")
     rel = os.path.relpath(nb_path, (HTML / page).parent).replace(os.sep, "/")
     assert f'href="{rel}"' in html_text, f"{page}.html has no link to {rel}"
+    # and to the files its first cell installs from, beside it
+    for f in [p for p in nb_path.parent.iterdir() if p.suffix in (".txt", ".whl")]:
+        rel = os.path.relpath(f, (HTML / page).parent).replace(os.sep, "/")
+        assert f'href="{rel}"' in html_text, f"{page}.html has no link to {rel}"
+    assert {p.suffix for p in nb_path.parent.iterdir()} >= {".txt", ".whl"}, f"no requirements or wheel beside {nb_path}"
 
 
 def test_execution_times_page_lists_every_chapter(book):
@@ -239,20 +256,15 @@ AXE = ROOT / "_build" / "axe" / "node_modules" / "axe-core" / "axe.min.js"   # `
 AXE_IMPACTS = ("serious", "critical")   # the audit fails a page on these
 
 
-def axe_audit(pg, page: str, width: int) -> list[dict]:
+async def axe_audit(pg, page: str, width: int) -> list[dict]:
     """Run axe-core (pinned, tools/axe/package-lock.json) on the open page; save its report to
     ``_build/screenshots/axe/<page>-<width>.json``; return the serious and critical violations."""
     import json
 
-    if not AXE.is_file():
-        msg = f"axe-core is not installed ({AXE}); `make test` installs it (npm ci, tools/axe)"
-        if os.environ.get("CI"):
-            pytest.fail(msg)
-        pytest.skip(msg)
     # preload: false, else axe-core fetches the stylesheets again (refused from file://: console errors)
-    if not pg.evaluate("() => !!window.axe"):
-        pg.add_script_tag(path=str(AXE))
-    result = pg.evaluate("""() => axe.run(document, {resultTypes: ['violations'], preload: false}).then(r => ({
+    if not await pg.evaluate("() => !!window.axe"):
+        await pg.add_script_tag(path=str(AXE))
+    result = await pg.evaluate("""() => axe.run(document, {resultTypes: ['violations'], preload: false}).then(r => ({
         version: r.testEngine.version, url: r.url,
         violations: r.violations.map(v => ({id: v.id, impact: v.impact, help: v.help, helpUrl: v.helpUrl,
             nodes: v.nodes.map(n => ({target: n.target, html: n.html.slice(0, 300), summary: n.failureSummary}))}))
@@ -289,40 +301,39 @@ _OVERFLOWING = """() => {
 }"""
 
 
-# the session's one Chromium: the `chromium` fixture of conftest.py (shared with tests/test_live_notebooks.py)
 
 
 # every remote request is refused and recorded, so an offline failure shows up here too
-def _open(chromium, page, width):
-    ctx = chromium.new_context(viewport={"width": width, "height": 900}, device_scale_factor=1)
+async def _open(chromium, page, width):
+    ctx = await chromium.new_context(viewport={"width": width, "height": 900}, device_scale_factor=1)
     events = {"errors": [], "remote": []}
 
-    def on_route(route):
+    async def on_route(route):
         url = route.request.url
         if url.startswith(("file:", "data:", "blob:")):
-            route.continue_()
+            await route.continue_()
         else:
             events["remote"].append(url)
-            route.abort()
+            await route.abort()
 
-    ctx.route("**/*", on_route)
-    pg = ctx.new_page()
+    await ctx.route("**/*", on_route)
+    pg = await ctx.new_page()
     pg.on("console", lambda m: events["errors"].append(f"console.{m.type}: {m.text}") if m.type == "error" else None)
     pg.on("pageerror", lambda e: events["errors"].append(f"page error: {e}"))
-    pg.goto((HTML / f"{page}.html").as_uri(), wait_until="load")
+    await pg.goto((HTML / f"{page}.html").as_uri(), wait_until="load")
     # MathJax typesets after load; wait for it where the page loads it
-    if pg.evaluate("() => !!document.querySelector('script[src*=\"mathjax\"]')"):
-        from playwright.sync_api import TimeoutError as PlaywrightTimeout
+    if await pg.evaluate("() => !!document.querySelector('script[src*=\"mathjax\"]')"):
+        from playwright.async_api import TimeoutError as PlaywrightTimeout
 
         try:
-            pg.wait_for_function("() => window.MathJax && MathJax.startup && MathJax.startup.promise",
+            await pg.wait_for_function("() => window.MathJax && MathJax.startup && MathJax.startup.promise",
                                  timeout=30_000)
         except PlaywrightTimeout:
-            ctx.close()
+            await ctx.close()
             raise AssertionError(f"{page}: MathJax never started (refused network requests: {events['remote']}; "
                                  f"errors: {events['errors']})") from None
-        pg.evaluate("() => MathJax.startup.promise")
-    pg.evaluate("""() => Promise.all(Array.from(document.images).map(img => {
+        await pg.evaluate("() => MathJax.startup.promise")
+    await pg.evaluate("""() => Promise.all(Array.from(document.images).map(img => {
         img.loading = 'eager';
         return img.complete ? null : new Promise(r => { img.onload = img.onerror = r; });
     }))""")
@@ -373,59 +384,123 @@ _TEXT_OUTSIDE_CODE = """() => {
 }"""
 
 
+#: pages checked at once in the one Chromium of the page checks: one per core (the checks wait on
+#: Chromium's rendering, screenshots and the audit, which use a core each)
+PARALLEL_PAGES = max(1, os.cpu_count() or 1)
+
+
+@after("book", "browser_pages")
+def check_the_pages_in_the_browser(book) -> dict:
+    """Every page of ``_toc.yml`` checked (:func:`check_page`) in one headless Chromium,
+    PARALLEL_PAGES at a time (Playwright's async API, in the background thread of this job):
+    ``{page: None or the first problem}``, or ``{"__skip__": why}`` without a browser."""
+    import asyncio
+
+    if book["rc"] != 0:
+        return {"__skip__": "the book did not build"}
+    path = find_chromium()
+    if path is None:
+        return {"__skip__": f"no Chromium found; {HOW_TO_ENABLE}"}
+    if not AXE.is_file():
+        return {"__skip__": f"axe-core is not installed ({AXE}); `make test` installs it (npm ci, tools/axe)"}
+    from playwright.async_api import async_playwright
+
+    async def run_all() -> dict:
+        results: dict = {}
+        gate = asyncio.Semaphore(PARALLEL_PAGES)
+        async with async_playwright() as p:
+            browser = await p.chromium.launch(executable_path=path, args=["--no-sandbox", "--disable-gpu"])
+
+            async def one(page):
+                async with gate:
+                    try:
+                        await check_page(browser, page)
+                        results[page] = None
+                    except AssertionError as exc:
+                        results[page] = str(exc)
+                    except Exception as exc:   # noqa: BLE001 - a Playwright error fails that page's test
+                        results[page] = f"{type(exc).__name__}: {exc}"
+
+            try:
+                await asyncio.gather(*(one(page) for page in PAGES))
+            finally:
+                await browser.close()
+        return results
+
+    return asyncio.run(run_all())
+
+
+@pytest.fixture(scope="session")
+def browser_pages(book):
+    """Every page's browser check, run in the background once the book is built."""
+    results = background("browser_pages")
+    if "__skip__" in results:
+        if os.environ.get("CI"):
+            pytest.fail(f"CI is set but {results['__skip__']}")
+        pytest.skip(results["__skip__"])
+    return results
+
+
 @pytest.mark.browser
 @pytest.mark.parametrize("page", PAGES, ids=page_id)
-def test_page_in_a_real_browser(chromium, book, page):
+def test_page_in_a_real_browser(browser_pages, book, page):
     assert book["rc"] == 0, "the book did not build"
-    ctx, pg, events = _open(chromium, page, WIDTHS[0])
+    problem = browser_pages[page]
+    assert problem is None, problem
+
+
+async def check_page(chromium, page: str) -> None:
+    """Every check of a page in the browser (see the module's docstring); raises AssertionError
+    with the first problem. ``chromium``: a browser of Playwright's async API."""
+    ctx, pg, events = await _open(chromium, page, WIDTHS[0])
     try:
         # math typeset: every math node became a MathJax container, no raw TeX left in the text
-        untypeset = pg.evaluate("() => Array.from(document.querySelectorAll('span.math, div.math'))"
+        untypeset = await pg.evaluate("() => Array.from(document.querySelectorAll('span.math, div.math'))"
                                 ".filter(e => !e.querySelector('mjx-container')).map(e => e.textContent.slice(0, 60))")
         assert not untypeset, f"{page}: math not typeset: {untypeset[:5]}"
-        if pg.locator("span.math, div.math").count():
-            assert pg.locator("mjx-container [data-mjx-error], mjx-merror").count() == 0, f"{page}: TeX errors"
-        text = pg.evaluate(_TEXT_OUTSIDE_CODE)
+        if await pg.locator("span.math, div.math").count():
+            assert await pg.locator("mjx-container [data-mjx-error], mjx-merror").count() == 0, f"{page}: TeX errors"
+        text = await pg.evaluate(_TEXT_OUTSIDE_CODE)
         for raw in ("$$", "\\(", "\\[", "\\begin{"):
             assert raw not in text, f"{page}: raw TeX {raw!r} left in the rendered text"
 
         # every image has loaded
-        broken = pg.evaluate("() => Array.from(document.images)"
+        broken = await pg.evaluate("() => Array.from(document.images)"
                              ".filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src.slice(0, 80))")
         assert not broken, f"{page}: images not loaded: {broken}"
 
         # no cell shows an error
-        assert pg.locator(".cell_output .output.traceback, .output.error").count() == 0, f"{page}: a cell error"
-        for err in pg.locator(".cell_output .output.stderr").all_inner_texts():
+        assert await pg.locator(".cell_output .output.traceback, .output.error").count() == 0, f"{page}: a cell error"
+        for err in await pg.locator(".cell_output .output.stderr").all_inner_texts():
             assert "Traceback" not in err and not re.search(r"\b\w*Error\b", err), f"{page}: stderr {err[:200]}"
 
         # screenshots at a laptop and a phone width
         SHOTS.mkdir(parents=True, exist_ok=True)
         for width in WIDTHS:  # taken before the sliders are touched, so the page is as a reader first sees it
-            pg.set_viewport_size({"width": width, "height": 900})
-            pg.evaluate("() => window.scrollTo(0, 0)")  # sticky sidebars are drawn where the page is scrolled
+            await pg.set_viewport_size({"width": width, "height": 900})
+            await pg.evaluate("() => window.scrollTo(0, 0)")  # sticky sidebars are drawn where the page is scrolled
             # two animation frames: the new width laid out and painted before the picture
-            pg.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+            await pg.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
             # caret="initial": no text caret to hide on these pages, and hiding it (the default) restyles
             # the whole page twice, a stylesheet put in and taken out (0.1 to 0.4 s a screenshot of a tall page)
-            pg.screenshot(path=str(SHOTS / f"{page_id(page)}-{width}.jpg"), full_page=True, quality=85,
+            await pg.screenshot(path=str(SHOTS / f"{page_id(page)}-{width}.jpg"), full_page=True, quality=85,
                           caret="initial")
             # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
-            overflow = pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
+            overflow = await pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
             assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
             # every block wider than its box scrolls in it, with a visible cue, and takes keyboard focus
-            pg.evaluate("() => window.orrcMarkOverflow && window.orrcMarkOverflow()")
-            for box in pg.evaluate(_OVERFLOWING):
+            await pg.evaluate("() => window.orrcMarkOverflow && window.orrcMarkOverflow()")
+            for box in await pg.evaluate(_OVERFLOWING):
                 assert box["overflowX"] in ("auto", "scroll"), f"{page} at {width} px: clipped, no scrolling: {box}"
                 assert box["cue"] and box["shadow"] != "none", f"{page} at {width} px: scrolls without a cue: {box}"
                 assert box["tabindex"] == "0" and box["label"], f"{page} at {width} px: not keyboard-scrollable: {box}"
             # the accessibility audit: no serious or critical violation (report beside the screenshots)
-            bad = axe_audit(pg, page, width)
+            bad = await axe_audit(pg, page, width)
             assert not bad, f"{page} at {width} px: axe-core: " + "; ".join(
                 f"{v['impact']} {v['id']} ({v['help']}): {[n['target'] for n in v['nodes'][:3]]}" for v in bad)
             # every figure legible: shown at >= 100 px per figure inch (its fonts of >= 9 pt at >= 12.5 px)
             # and inside the screen
-            for fig in pg.evaluate(_SHOWN_IMAGES):
+            for fig in await pg.evaluate(_SHOWN_IMAGES):
                 dpi = png_dpi(image_bytes(fig["src"], page))
                 assert dpi is not None, f"{page}: an image without a resolution (not a figure PNG?): {fig['src'][:60]}"
                 shown = dpi * fig["shown"] / fig["natural"]
@@ -437,39 +512,39 @@ def test_page_in_a_real_browser(chromium, book, page):
 
         # every frame slider flips its figure (both renderings, wide and narrow)
         frames = pg.locator("div.orrc-frames")
-        for i in range(frames.count()):
+        for i in range(await frames.count()):
             box = frames.nth(i)
             imgs = box.locator("img.orrc-frame")
-            assert imgs.count() in (1, 2) and box.locator("input.orrc-slider").count() >= 1
-            handles = [imgs.nth(k).element_handle() for k in range(imgs.count())]
-            for j in range(box.locator("input.orrc-slider").count()):
+            assert await imgs.count() in (1, 2) and await box.locator("input.orrc-slider").count() >= 1
+            handles = [await imgs.nth(k).element_handle() for k in range(await imgs.count())]
+            for j in range(await box.locator("input.orrc-slider").count()):
                 slider = box.locator("input.orrc-slider").nth(j)
-                top = int(slider.get_attribute("max"))
+                top = int(await slider.get_attribute("max"))
                 if top == 0:
                     continue
-                before = [h.get_attribute("src") for h in handles]
-                before_alt = [h.get_attribute("alt") for h in handles]
-                before_label = box.locator("output").nth(j).inner_text()
-                start = int(slider.input_value())
-                slider.fill(str(top if start != top else 0))
+                before = [await h.get_attribute("src") for h in handles]
+                before_alt = [await h.get_attribute("alt") for h in handles]
+                before_label = await box.locator("output").nth(j).inner_text()
+                start = int(await slider.input_value())
+                await slider.fill(str(top if start != top else 0))
                 for h, src in zip(handles, before):
-                    pg.wait_for_function("([el, s]) => el.src !== s", arg=[h, src], timeout=5_000)
-                    assert pg.evaluate("(el) => el.naturalWidth > 0", h), f"{page}: new frame broken"
-                assert box.locator("output").nth(j).inner_text() != before_label, f"{page}: label did not follow"
+                    await pg.wait_for_function("([el, s]) => el.src !== s", arg=[h, src], timeout=5_000)
+                    assert await pg.evaluate("(el) => el.naturalWidth > 0", h), f"{page}: new frame broken"
+                assert await box.locator("output").nth(j).inner_text() != before_label, f"{page}: label did not follow"
                 # the text alternative follows the frame: the new frame's parameter value is in it
-                name, label = slider.get_attribute("data-name"), box.locator("output").nth(j).inner_text()
+                name, label = await slider.get_attribute("data-name"), await box.locator("output").nth(j).inner_text()
                 for h, alt in zip(handles, before_alt):
-                    now = h.get_attribute("alt")
+                    now = await h.get_attribute("alt")
                     assert now != alt and f"{name} = {label}" in now, (
                         f"{page}: the image's text alternative did not follow the slider ({name} = {label}): {now[:120]}")
-                slider.fill(str(start))  # and back
+                await slider.fill(str(start))  # and back
                 for h, src in zip(handles, before):
-                    pg.wait_for_function("([el, s]) => el.src === s", arg=[h, src], timeout=5_000)
+                    await pg.wait_for_function("([el, s]) => el.src === s", arg=[h, src], timeout=5_000)
 
         assert not events["remote"], f"{page}: requested from the network: {events['remote']}"
         assert not events["errors"], f"{page}: " + "\n".join(events["errors"])
     finally:
-        ctx.close()
+        await ctx.close()
 
 
 # ---------------------------------------------------------------- search, served over http

@@ -64,9 +64,12 @@ def lab(tmp_path_factory):
     shutil.copytree(ROOT / "book", root / "book")
     settings = home / "settings" / "@jupyterlab" / "notebook-extension"
     settings.mkdir(parents=True)
-    # every cell in the page (JupyterLab attaches only the visible ones by default), so the test
-    # can read the whole chapter; a reader's view is the same
-    (settings / "tracker.jupyterlab-settings").write_text(json.dumps({"windowingMode": "none"}))
+    # no settings of the test's own: make lab's overrides (tools/jupyterlab-overrides.json, in the
+    # environment's share/jupyter/lab/settings) decide, as they do for a reader: no windowing, so
+    # Run All shows every number whatever was on screen
+    overrides = Path(sys.prefix) / "share" / "jupyter" / "lab" / "settings" / "overrides.json"
+    tracker = json.loads(overrides.read_text())["@jupyterlab/notebook-extension:tracker"]
+    assert tracker["windowingMode"] == "none", f"make lab's {overrides} leaves windowing on"
     token, port = secrets.token_hex(16), _free_port()
     env = {k: v for k, v in os.environ.items() if k not in ("ORRC_BOOK_BUILD", "JUPYTER_CONFIG_DIR")}
     env.update(ORRC_QUICK="1", JUPYTER_CONFIG_DIR=str(home / "config"), JUPYTER_RUNTIME_DIR=str(home / "runtime"),

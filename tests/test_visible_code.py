@@ -12,25 +12,24 @@ after the visible cell that sets it: ``T = orrc.config.size(T, 40)``.
   bound it; a ``size-switch`` cell rebinds only names that a visible cell bound before it. Names
   are found with :mod:`symtable` (assignments, imports, definitions, ``for`` and ``with``
   targets, walrus; names used inside functions, lambdas and comprehensions count).
-* Dynamic (``slow``): the visible cells and the ``size-switch`` cells of each page, extracted
-  in page order, execute with nbclient at the test size (``ORRC_QUICK=1``, ``ORRC_BOOK_BUILD=1``
-  so explorers draw static frames) without an error. The pages run two at a time.
+* Dynamic (``slow``): the visible cells and the ``size-switch`` cells of each page, in page
+  order, execute at the test size (``ORRC_QUICK=1``) without an error. They are the page's
+  ``.ipynb`` download (its code cells are the visible ones) with the size switches put back, run
+  once per session in a fresh environment by tests/downloads.py, which tests/test_downloads.py
+  reads too.
 * Code style: code lines of at most 88 characters; every ``assert`` states its claim.
 """
 from __future__ import annotations
 
 import builtins
-import os
 import symtable
-import time
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import jupytext
-import nbformat
 import pytest
 
-from conftest import after, background
+import downloads  # noqa: F401 - registers the background run of the downloads
+from conftest import background
 from tools.toc import ROOT, notebook_pages
 
 PAGES = notebook_pages()
@@ -163,57 +162,19 @@ def test_the_static_check_reports_a_name_set_out_of_sight(tmp_path):
 # ----------------------------------------------------------------------------- dynamic
 
 
-def reader_notebook(page: str) -> nbformat.NotebookNode:
-    """The page as a reader who copies its visible code runs it: the visible cells and the
-    size-switch cells, in page order."""
-    cells = [nbformat.v4.new_code_cell(c["source"]) for c in code_cells(page)
-             if not is_hidden(c) or SIZE_SWITCH in c["tags"]]
-    nb = nbformat.v4.new_notebook(cells=cells)
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
-    return nb
-
-
-def run_reader_notebook(page: str) -> tuple[str, float, str | None]:
-    """(page, seconds, the first error or None) of running :func:`reader_notebook`."""
-    from nbclient import NotebookClient
-    from nbclient.exceptions import CellExecutionError
-
-    env = {**os.environ, "ORRC_QUICK": "1", "ORRC_BOOK_BUILD": "1", "MPLBACKEND": "agg"}
-    t0 = time.perf_counter()
-    client = NotebookClient(reader_notebook(page), timeout=600, kernel_name="python3",
-                            resources={"metadata": {"path": str(ROOT / "book")}})
-    try:
-        client.execute(env=env)   # env: the kernel's environment (KernelManager.start_kernel)
-        error = None
-    except CellExecutionError as exc:
-        error = str(exc)[-2000:]
-    return page, time.perf_counter() - t0, error
-
-
 @pytest.fixture(scope="session")
-def reader_runs():
-    """Every page's reader notebook, run once per session, two pages at a time (in the background;
-    see :func:`run_the_reader_notebooks`)."""
-    return background("reader_runs")
-
-
-# The reader notebooks need nothing of the book's build; they are started with the jobs that wait on
-# it only to spread the load: the build runs beside the tests that need neither (both cores busy),
-# the browser's tests beside these jobs (the browser leaves one core idle).
-@after("book", "reader_runs")
-def run_the_reader_notebooks(_book):
-    t0 = time.perf_counter()
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        runs = {page: (seconds, error) for page, seconds, error in pool.map(run_reader_notebook, PAGES)}
-    runs["__total__"] = (time.perf_counter() - t0, None)
-    return runs
+def downloads_run(book):
+    """Every chapter's download run once per session (tests/downloads.py, in the background)."""
+    return background("downloads_run")
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("page", PAGES)
-def test_the_visible_code_of_a_page_runs_as_a_reader_sees_it(reader_runs, page):
-    seconds, error = reader_runs[page]
-    assert error is None, f"{page}: the visible code fails when run on its own:\n{error}"
+def test_the_visible_code_of_a_page_runs_as_a_reader_sees_it(downloads_run, page):
+    """The page's download holds exactly the code cells the page shows (tests/downloads.py checks
+    the count against the chapter); run with the size switches, it runs without an error."""
+    result = downloads_run["results"][page]
+    assert result["error"] is None, f"{page}: the visible code fails when run on its own:\n{result['error']}"
 
 
 # ----------------------------------------------------------------------------- code style
