@@ -36,7 +36,7 @@ from pathlib import Path
 
 import yaml
 
-from tools import autograder_env
+from tools import autograder_env, grading_prelude, handout_leaks
 
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = ROOT / "assignments"
@@ -169,6 +169,18 @@ def leaked_solutions(master: Path, student: Path) -> list[str]:
     return [ln for ln in _solution_text(master) if ln in text]
 
 
+def own_their_tools(master: Path) -> None:
+    """Give every test of ``master`` the grading prelude (:mod:`tools.grading_prelude`): its own
+    numpy and orrc, its own tolerances, package functions forbidden while a student's is graded."""
+    import nbformat
+
+    nb = nbformat.read(master, as_version=4)
+    for cell in nb.cells:
+        if cell.cell_type == "code" and _CONFIG_DOC.match(cell.source):
+            cell.source = grading_prelude.with_prelude(cell.source)
+    nbformat.write(nb, master)
+
+
 def self_contained(master: Path, wheel: Path) -> None:
     """Make the autograder of ``master`` grade anywhere: its assignment config gets the orrc wheel
     (``files``: in the zip's ``files/`` and beside the student notebook), the pinned requirements
@@ -193,6 +205,7 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None =
     if dest.exists():
         shutil.rmtree(dest)
     master = to_ipynb(Path(root) / name / f"{name}.md", dest / "master" / f"{name}.ipynb")
+    own_their_tools(master)
     self_contained(master, wheel or autograder_env.build_wheel(dest / "wheel"))
     proc = subprocess.run([_bin("otter"), "assign", str(master), str(dest / "dist")], capture_output=True, text=True,
                           cwd=master.parent)
@@ -202,9 +215,11 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None =
     if len(zips) != 1:
         raise RuntimeError(f"otter assign wrote {len(zips)} autograder zips for {name}")
     leaks = leaked_solutions(master, dest / "dist" / "student" / f"{name}.ipynb")
+    leaks += handout_leaks.leaks(master, dest / "dist" / "student" / f"{name}.ipynb")
     if leaks:
         raise RuntimeError(f"{name}: the student notebook still holds solution or hidden-test text "
-                           f"(a solution cell outside a BEGIN/END SOLUTION block?): {leaks[:3]}")
+                           f"(a solution outside a BEGIN/END SOLUTION block, a sentence or number of a "
+                           f"solution or hidden test in the handout's text?): {leaks[:3]}")
     shutil.rmtree(dest / "master")  # the master holds the hidden tests and solutions: keep only otter's output
     return {"student": dest / "dist" / "student" / f"{name}.ipynb",
             "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0]}
