@@ -15,13 +15,15 @@ line or hidden test of an assignment is in the built HTML.
 """
 from __future__ import annotations
 
+import json
+import os
 import re
+import shutil
+import sys
 from pathlib import Path
 
 import pytest
 import yaml
-
-import sys
 
 from conftest import BOOK_OUT
 from tools import assignments
@@ -256,6 +258,11 @@ def test_every_exercise_has_time_and_difficulty_in_the_guide():
     assert all(re.search(rf"\| {i}\b|\b{i}; exam|, and {i}|\b{i} \|", syllabus) for i in range(1, 6))
 
 
+def json_text(outputs) -> str:
+    """What a cell's outputs show, as one string."""
+    return json.dumps([dict(o) for o in outputs])
+
+
 def _handout_of(master: Path, dest: Path) -> Path:
     """A stand-in for otter's student notebook: the master without its solution regions, in-cell
     solution blocks and hidden tests (what otter removes), the rest as it is."""
@@ -334,3 +341,44 @@ def test_what_you_should_see_and_reasoning_stay_in_the_solutions():
         assert "my reasoning" not in text, name
     assert handout_leaks.significant_digits("0.595") == 3 and handout_leaks.significant_digits("400") == 1
     assert handout_leaks.numbers("slope 0.595 at T = 400, seed 2024") == {"0.595", "2024"}
+
+
+@pytest.mark.slow
+def test_a_student_sets_up_from_the_handout_alone(graded, tmp_path):
+    """The handout's requirements.txt installs, in a fresh environment, what runs the notebook and
+    its public tests: the same pinned list the autograder grades with (so the environment the
+    gradings built is the one a student's file gives, reused here), and the wheel beside it."""
+    import subprocess
+    import zipfile
+
+    import nbformat
+
+    from fresh_env import fresh_env, with_wheels
+
+    r = graded[NAMES[0]]
+    handout = Path(r["paths"]["student"]).parent
+    lines = [ln.strip() for ln in (handout / "requirements.txt").read_text(encoding="utf-8").splitlines()
+             if ln.strip() and not ln.startswith("#")]
+    wheels = [ln for ln in lines if ln.endswith(".whl")]
+    assert len(wheels) == 1 and (handout / wheels[0]).is_file(), lines
+    registry = [ln for ln in lines if ln not in wheels]
+    assert all("==" in ln for ln in registry), [ln for ln in registry if "==" not in ln]
+    with zipfile.ZipFile(r["paths"]["autograder"]) as zf:
+        pip = next(d["pip"] for d in yaml.safe_load(zf.read("environment.yml"))["dependencies"] if isinstance(d, dict))
+    assert registry == [p for p in pip if not p.endswith(".whl")], "the student's pins are the grader's"
+    exe = with_wheels(fresh_env("autograder", registry, base=handout), [handout / wheels[0]])
+    work = tmp_path / "handout"
+    shutil.copytree(handout, work)
+    shutil.copy(Path(r["paths"]["student"]).parents[2] / "submissions" / "wrong.ipynb", work / f"{NAMES[0]}.ipynb")
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    run = subprocess.run([str(exe), "-c", "import nbformat, nbclient, sys; nb = nbformat.read(sys.argv[1], 4); "
+                          "nbclient.NotebookClient(nb, kernel_name='python3', timeout=600, "
+                          "resources={'metadata': {'path': sys.argv[2]}}).execute(); nbformat.write(nb, sys.argv[1])",
+                          str(work / f"{NAMES[0]}.ipynb"), str(work)], cwd=work, env=env, capture_output=True,
+                         text=True, timeout=900)
+    assert run.returncode == 0, run.stderr[-3000:]
+    nb = nbformat.read(work / f"{NAMES[0]}.ipynb", as_version=4)
+    checks = {c.source.split('"')[1]: json_text(c.outputs) for c in nb.cells
+              if c.cell_type == "code" and c.source.startswith("grader.check(")}
+    assert "passed" in checks["q2_derivation"] and "failed" not in checks["q2_derivation"].lower(), checks
+    assert "failed" in checks["q1_plan"].lower(), "the public tests point at the wrong Question 1"

@@ -9,8 +9,9 @@ it needs and how long a student takes (``orrc_assignment: {chapters: [...], minu
 For every assignment, :func:`build` converts the source to ``.ipynb`` (jupytext; otter assign
 reads notebooks), makes its autograder self-contained (:func:`self_contained`: the orrc wheel and the
 pinned requirements of :mod:`tools.autograder_env` in its config) and runs ``otter assign`` into
-``_build/assignments/NAME/``: ``student/NAME.ipynb`` (solutions and hidden tests removed: what
-students get) and ``autograder/`` (the solution notebook and the autograder zip). :func:`grade`
+``_build/assignments/NAME/``: ``student/`` (what students get: ``NAME.ipynb``, solutions and
+hidden tests removed, the orrc wheel and ``requirements.txt``, the pinned list to set up from,
+see :func:`write_student_requirements`) and ``autograder/`` (the solution notebook and the autograder zip). :func:`grade`
 grades a notebook with ``otter run`` (locally, no container; by default with this environment's
 otter and kernel, or with another interpreter's, e.g. a fresh environment built from the zip
 alone). Questions marked ``manual: true`` are written answers graded by hand (no tests; their
@@ -198,6 +199,35 @@ def self_contained(master: Path, wheel: Path) -> None:
     nbformat.write(nb, master)
 
 
+STUDENT_REQUIREMENTS = "requirements.txt"
+_STUDENT_SETUP = """\
+# Everything this assignment's notebook needs, pinned, for Python {python}. From this folder:
+#   python{python} -m venv .venv
+#   .venv/bin/pip install -r requirements.txt
+# then open the notebook with JupyterLab (.venv/bin/pip install jupyterlab), VS Code or any
+# Jupyter front end, choosing this environment's kernel. On a JupyterHub or on Colab, upload this
+# folder's files and run  %pip install -r requirements.txt  in a cell before the first one.
+"""
+
+
+def wheel_name(folder: Path) -> str:
+    """The name of the one orrc wheel in ``folder``."""
+    wheels = sorted(Path(folder).glob("orrc-*.whl"))
+    if len(wheels) != 1:
+        raise RuntimeError(f"{folder}: {len(wheels)} orrc wheels (one expected)")
+    return wheels[0].name
+
+
+def write_student_requirements(folder: Path, wheel: str) -> Path:
+    """The handout's ``requirements.txt``: the pinned list the autograder grades with (same
+    versions, so a student's results are the grader's) and the orrc wheel beside it."""
+    lines = [ln for ln in autograder_env.grading_requirements(wheel) if not ln.endswith(".whl")]
+    path = Path(folder) / STUDENT_REQUIREMENTS
+    path.write_text(_STUDENT_SETUP.format(python=autograder_env.python_version()) + "\n".join(lines + [wheel]) + "\n",
+                    encoding="utf-8")
+    return path
+
+
 def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None = None) -> dict:
     """``otter assign`` one assignment into ``out/NAME``: paths of the student and solution notebooks
     and of the autograder zip. ``wheel``: the orrc wheel to put in the autograder (built if None)."""
@@ -221,6 +251,7 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None =
                            f"(a solution outside a BEGIN/END SOLUTION block, a sentence or number of a "
                            f"solution or hidden test in the handout's text?): {leaks[:3]}")
     shutil.rmtree(dest / "master")  # the master holds the hidden tests and solutions: keep only otter's output
+    write_student_requirements(dest / "dist" / "student", wheel_name(dest / "dist" / "student"))
     return {"student": dest / "dist" / "student" / f"{name}.ipynb",
             "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0]}
 

@@ -128,7 +128,8 @@ def unpacked(path: Path, work: Path) -> tuple[Path, str]:
     return target, ""
 
 
-TIME_LIMIT = 600      # seconds a notebook may run (its tests included)
+#: seconds a notebook may run, its tests included (``ORRC_GRADING_TIME_LIMIT`` overrides it)
+TIME_LIMIT = float(os.environ.get("ORRC_GRADING_TIME_LIMIT", 600))
 MEMORY_MB = 4096      # address space a notebook's processes may take
 
 
