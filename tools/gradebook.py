@@ -308,6 +308,10 @@ def main(argv=None) -> int:
     ap.add_argument("--time-limit", type=float, default=TIME_LIMIT, help="seconds one notebook may run")
     ap.add_argument("--memory", type=int, default=MEMORY_MB, help="megabytes one notebook may take")
     args = ap.parse_args(argv)
+    if not args.time_limit > 0 or args.memory < 256:
+        print(f"gradebook: --time-limit must be positive seconds (given {args.time_limit:g}) and --memory at least "
+              f"256 MB (given {args.memory})", file=sys.stderr)
+        return 2
     try:
         deadline = dt.datetime.fromisoformat(args.deadline) if args.deadline else None
     except ValueError:
