@@ -382,3 +382,20 @@ def test_a_student_sets_up_from_the_handout_alone(graded, tmp_path):
               if c.cell_type == "code" and c.source.startswith("grader.check(")}
     assert "passed" in checks["q2_derivation"] and "failed" not in checks["q2_derivation"].lower(), checks
     assert "failed" in checks["q1_plan"].lower(), "the public tests point at the wrong Question 1"
+
+
+@pytest.mark.slow
+def test_the_lecturer_gets_a_clean_solution_and_its_pdf(graded):
+    """The solution notebook without markers, otter cells or tests, and a PDF of it, per assignment."""
+    import nbformat
+
+    for name, r in graded.items():
+        nb = nbformat.read(r["paths"]["clean_solution"], as_version=4)
+        code = "\n".join(c.source for c in nb.cells if c.cell_type == "code")
+        text = "\n".join(c.source for c in nb.cells)
+        assert "SOLUTION" not in text and "BEGIN QUESTION" not in text and "grader.check" not in code, name
+        assert "def test_" not in text and "otter" not in nb.metadata, name
+        sol = assignments.read_assignment(assignments.SOURCES / name / f"{name}.md")
+        assert text.count("graded by hand") == sum(q["manual"] for q in sol["questions"]), name
+        pdf = Path(r["paths"]["solutions_pdf"])
+        assert pdf.read_bytes()[:5] == b"%PDF-" and pdf.stat().st_size > 5000, name

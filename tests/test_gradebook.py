@@ -181,6 +181,11 @@ def test_a_class_graded_safely(clone):
     assert rows["one_wrong"]["late"] == "late by 2 h 5 min"
     assert all(not r["late"] for s, r in rows.items() if s != "one_wrong")
     assert float(rows["network"]["total"]) == possible
+    written = clone["dir"] / "grades" / FIRST / "written"
+    for student in ("right", "alice", "network", "one_wrong"):   # one PDF of written answers per submission
+        pdf = written / f"{student}.pdf"
+        assert pdf.is_file() and pdf.read_bytes()[:5] == b"%PDF-", student
+    assert float(rows["right"]["written_possible"]) > 0 and rows["right"]["written"] == ""
     if gradebook.network_isolation():
         assert NETWORK_MARK.read_text() == "blocked", "a student's notebook reached the network"
 

@@ -11,7 +11,8 @@ reads notebooks), makes its autograder self-contained (:func:`self_contained`: t
 pinned requirements of :mod:`tools.autograder_env` in its config) and runs ``otter assign`` into
 ``_build/assignments/NAME/``: ``student/`` (what students get: ``NAME.ipynb``, solutions and
 hidden tests removed, the orrc wheel and ``requirements.txt``, the pinned list to set up from,
-see :func:`write_student_requirements`) and ``autograder/`` (the solution notebook and the autograder zip). :func:`grade`
+see :func:`write_student_requirements`), ``solution/`` (for the lecturer: the solution notebook
+without markers or tests, :func:`clean_solution`, and it as a PDF) and ``autograder/`` (the solution notebook and the autograder zip). :func:`grade`
 grades a notebook with ``otter run`` (locally, no container; by default with this environment's
 otter and kernel, or with another interpreter's, e.g. a fresh environment built from the zip
 alone). Questions marked ``manual: true`` are written answers graded by hand (no tests; their
@@ -37,7 +38,7 @@ from pathlib import Path
 
 import yaml
 
-from tools import autograder_env, grading_prelude, handout_leaks
+from tools import autograder_env, grading_prelude, handout_leaks, written_answers
 
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = ROOT / "assignments"
@@ -228,6 +229,30 @@ def write_student_requirements(folder: Path, wheel: str) -> Path:
     return path
 
 
+def clean_solution(solution: Path, dest: Path):
+    """The solution notebook for the lecturer: otter's, without its solution markers, question
+    comments, otter cells (``grader.check``, the export cell) and tests; written to ``dest``."""
+    import nbformat
+
+    nb = nbformat.read(solution, as_version=4)
+    cells = []
+    for cell in nb.cells:
+        if cell.cell_type == "raw" or (cell.cell_type == "code" and ("grader." in cell.source or "otter" in cell.source)):
+            continue
+        src = re.sub(r"\n?[ \t]*#\s*(BEGIN|END) SOLUTION( NO PROMPT)?[ \t]*(?=\n|$)", "", cell.source)
+        src = re.sub(r"[ \t]*#\s*SOLUTION\s*$", "", src, flags=re.M)
+        src = re.sub(r"<!--\s*(BEGIN|END) QUESTION\s*-->\s*", "", src).strip()
+        if src:
+            cell.source = src
+            cell.metadata.pop("tags", None)
+            cells.append(cell)
+    nb.cells = cells
+    nb.metadata.pop("otter", None)
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    nbformat.write(nb, dest)
+    return nb
+
+
 def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None = None) -> dict:
     """``otter assign`` one assignment into ``out/NAME``: paths of the student and solution notebooks
     and of the autograder zip. ``wheel``: the orrc wheel to put in the autograder (built if None)."""
@@ -252,8 +277,12 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None =
                            f"solution or hidden test in the handout's text?): {leaks[:3]}")
     shutil.rmtree(dest / "master")  # the master holds the hidden tests and solutions: keep only otter's output
     write_student_requirements(dest / "dist" / "student", wheel_name(dest / "dist" / "student"))
+    solution = clean_solution(dest / "dist" / "autograder" / f"{name}.ipynb", dest / "dist" / "solution" / f"{name}.ipynb")
+    written_answers.solution_pdf(dest / "dist" / "solution" / f"{name}-solutions.pdf", solution)
     return {"student": dest / "dist" / "student" / f"{name}.ipynb",
-            "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0]}
+            "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0],
+            "clean_solution": dest / "dist" / "solution" / f"{name}.ipynb",
+            "solutions_pdf": dest / "dist" / "solution" / f"{name}-solutions.pdf"}
 
 
 def grade(notebook: Path, autograder: Path, workdir: Path, python: str | None = None) -> dict:

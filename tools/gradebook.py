@@ -12,7 +12,10 @@ output folder (created),
 - ``feedback/STUDENT.md``: the student's points per question and, for each failed check, the
   message the assignment wrote for it (what to check), never the tests' source: otter's own
   output, which quotes the hidden tests' code in its tracebacks, is not copied;
-- ``otter/STUDENT/``: otter's raw results, for the instructor only (they hold hidden test source).
+- ``otter/STUDENT/``: otter's raw results, for the instructor only (they hold hidden test source);
+- ``written/STUDENT.pdf``: the student's answers to the written questions, with the code-graded
+  score, to grade by hand (:mod:`tools.written_answers`); the CSV's ``written`` column is left
+  for those points (out of ``written_possible``).
 
 Each notebook runs in a sandbox (:func:`sandboxed`): its own process group, killed after
 ``--time-limit`` seconds (an endless loop costs that submission only), a memory limit
@@ -49,6 +52,7 @@ from functools import lru_cache
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from tools import written_answers
 from tools.assignments import OUT, _bin
 
 _NAME_ERROR = re.compile(r"NameError: name '(\w+)' is not defined")
@@ -180,6 +184,11 @@ def grade_one(path: Path, zip_path: Path, work: Path, expected: str, cases: dict
     scores = {q: 0.0 for q in cases}
     path, note = unpacked(path, work)
     note = note or precheck(path, expected)
+    written = []
+    if not note:
+        import nbformat
+
+        written = written_answers.read(nbformat.read(path, as_version=4))
     failed: dict[str, list[str]] = {}
     missing: set[str] = set()
     undefined: list[str] = []
@@ -214,7 +223,7 @@ def grade_one(path: Path, zip_path: Path, work: Path, expected: str, cases: dict
     for q in cases:
         lines.append(f"- **{q}**: {scores[q]:g} / {possible[q]:g}")
         lines += [f"  - check: {m}" for m in failed.get(q, []) if m]
-    return {"student": student, "scores": scores, "possible": possible, "note": note,
+    return {"student": student, "scores": scores, "possible": possible, "note": note, "written": written,
             "feedback": "\n".join(lines) + "\n"}
 
 
@@ -280,16 +289,23 @@ def grade_folder(name: str, submissions: Path, out: Path, zip_path: Path | None 
     for student in sorted(set(roster) - set(chosen)):
         rows.append({"student": student, "scores": {q: 0.0 for q in cases}, "possible": possible, "late": "",
                      "note": "no submission", "feedback": ""})
+    written_possible = max((sum(q["points"] for q in r.get("written", [])) for r in rows), default=0.0)
+    for r in rows:
+        if r.get("written"):
+            score = f"{sum(r['scores'].values()):g} / {sum(r['possible'].values()):g} points"
+            written_answers.write_pdf(out / "written" / f"{r['student']}.pdf", r["student"], expected, score,
+                                      r["written"], r["note"])
     with open(out / "gradebook.csv", "w", newline="", encoding="utf-8") as f:
         writer = csv.writer(f)
-        writer.writerow(["student", *(["name", "email"] if roster else []), *cases, "total", "possible", "late", "note"])
+        writer.writerow(["student", *(["name", "email"] if roster else []), *cases, "total", "possible",
+                         "written", "written_possible", "late", "note"])
         for r in rows:
             who = roster.get(r["student"], {"name": "", "email": ""}) if roster else None
             note = r["note"] if (not roster or r["student"] in roster) else "; ".join(
                 n for n in ("not on the roster", r["note"]) if n)
             writer.writerow([r["student"], *([who["name"], who["email"]] if roster else []),
                              *(f"{r['scores'][q]:g}" for q in cases), f"{sum(r['scores'].values()):g}",
-                             f"{sum(r['possible'].values()):g}", r["late"], note])
+                             f"{sum(r['possible'].values()):g}", "", f"{written_possible:g}", r["late"], note])
     for r in rows:
         if r["feedback"]:
             (out / "feedback" / f"{r['student']}.md").write_text(r["feedback"], encoding="utf-8")
