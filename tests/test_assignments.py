@@ -132,7 +132,7 @@ def test_solution_gets_full_marks_and_blank_does_not(graded, name):
     assert sol["points"] > 0 and sol["score"] == sol["points"], assignments.summary([r])[0]
     assert blank["points"] == sol["points"]
     assert blank["score"] <= 0.25 * blank["points"], f"{name}: the untouched student notebook gets {blank['score']:g}"
-    assert re.fullmatch(rf"{name}: solution (\d+)/\1 points, blank \d+/\1 points", assignments.line(r))
+    assert re.fullmatch(rf"{name}: solution ([\d.]+)/\1 points, blank [\d.]+/\1 points", assignments.line(r))
 
 
 def _failed(output: str, question: str) -> set[int]:
