@@ -101,8 +101,9 @@ def test_graded_in_a_fresh_environment_built_from_the_zip_alone(graded):
     for name, r in graded.items():
         exe = Path(r["python"])
         assert "fresh-envs" in exe.parts and ROOT / ".venv" not in exe.parents, f"{name} graded by {exe}"
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
         where = subprocess.run([str(exe), "-c", "import orrc, otter; print(orrc.__file__)"], capture_output=True,
-                               text=True, check=True, cwd=Path(r["paths"]["student"]).parent).stdout.strip()
+                               text=True, check=True, cwd=Path(r["paths"]["student"]).parent, env=env).stdout.strip()
         assert "site-packages" in where and not where.startswith(str(ROOT / "orrc")), where
 
 

@@ -28,6 +28,7 @@ from __future__ import annotations
 import argparse
 import ast
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -296,8 +297,10 @@ def grade(notebook: Path, autograder: Path, workdir: Path, python: str | None = 
         shutil.rmtree(workdir)
     workdir.mkdir(parents=True)
     cmd = [python, "-m", "otter"] if python else [_bin("otter")]
+    # another interpreter grades with its own packages only: nothing of this checkout on its path
+    env = {k: v for k, v in os.environ.items() if not (python and k in ("PYTHONPATH", "VIRTUAL_ENV"))}
     proc = subprocess.run([*cmd, "run", "-a", str(Path(autograder).resolve()), "-o", str(workdir.resolve()), "--no-logo",
-                           str(Path(notebook).resolve())], capture_output=True, text=True, cwd=workdir)
+                           str(Path(notebook).resolve())], capture_output=True, text=True, cwd=workdir, env=env)
     results = workdir / "results.json"
     if not results.is_file():
         raise RuntimeError(f"otter run wrote no results for {notebook}:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
