@@ -15,13 +15,15 @@ line or hidden test of an assignment is in the built HTML.
 """
 from __future__ import annotations
 
+import json
+import os
 import re
+import shutil
+import sys
 from pathlib import Path
 
 import pytest
 import yaml
-
-import sys
 
 from conftest import BOOK_OUT
 from tools import assignments
@@ -31,12 +33,15 @@ FIXTURES = ROOT / "tests" / "fixtures" / "assignments"
 NAMES = assignments.names()
 
 
-def wrong_submissions(name: str) -> dict[str, dict]:
-    """The plausible wrong submissions of an assignment: {label: front matter} (label as graded)."""
+def wrong_submissions(name: str, gaming: bool = False) -> dict[str, dict]:
+    """The plausible wrong submissions of an assignment: {label: front matter} (label as graded);
+    with ``gaming``, the submissions that try to pass without the understanding a question tests
+    (front matter ``gaming: true`` and ``loses``, the points each question must lose)."""
     out = {}
     for p in sorted(FIXTURES.glob(f"{name}_wrong*.md")):
         front = yaml.safe_load(p.read_text(encoding="utf-8").split("---")[1])
-        out[p.stem[len(name) + 1:]] = front["orrc_wrong"]
+        if bool(front["orrc_wrong"].get("gaming")) == gaming:
+            out[p.stem[len(name) + 1:]] = front["orrc_wrong"]
     return out
 
 
@@ -51,10 +56,12 @@ def test_five_assignments_one_per_part_of_the_paper():
 @pytest.mark.parametrize("name", NAMES)
 def test_every_assignment_asks_for_a_prediction_a_derivation_and_an_explanation(name):
     qs = assignments.read_assignment(assignments.SOURCES / name / f"{name}.md")["questions"]
-    kinds = {k for q in qs for k in ("predict", "derivation") if k in q["name"]}
-    assert kinds == {"predict", "derivation"}, f"{name}: questions {[q['name'] for q in qs]}"
-    predict = next(q for q in qs if "predict" in q["name"])
-    assert sum(t["hidden"] for t in predict["tests"]) >= 2, f"{name}: the prediction and the verification are graded"
+    kinds = {k for q in qs for k in ("predict", "derivation", "verify") if k in q["name"]}
+    assert kinds == {"predict", "derivation", "verify"}, f"{name}: questions {[q['name'] for q in qs]}"
+    assert "predict" in qs[0]["name"], f"{name}: the prediction is asked before any cell can reveal it"
+    assert any(t["hidden"] for t in qs[0]["tests"]), f"{name}: the prediction is graded by a hidden test"
+    verify = next(q for q in qs if "verify" in q["name"])
+    assert any(t["hidden"] for t in verify["tests"]), f"{name}: the verification is graded"
     assert any(q["manual"] and q["manual_points"] > 0 for q in qs), f"{name}: no written question graded by hand"
 
 
@@ -68,6 +75,24 @@ def test_every_assignment_has_a_plausible_wrong_submission_of_one_question(name)
 
 
 @pytest.mark.slow
+def test_gaming_submissions_lose_the_points_in_question(graded):
+    """A wrapper of the package function a question asks for, a difference quotient of the
+    package's gamma_c, numpy's comparisons replaced by ``lambda *a, **k: True``, a verification
+    typed in: each loses the points of the questions it games (and no other point)."""
+    seen = 0
+    for name in NAMES:
+        for label, front in wrong_submissions(name, gaming=True).items():
+            seen += 1
+            got = graded[name]["grades"][label]["questions"]
+            for q, (score, pts, _) in got.items():
+                if q in front["loses"]:
+                    assert score <= pts - front["loses"][q], f"{name}_{label}: {q} gets {score:g}/{pts:g}"
+                else:
+                    assert score == pts, f"{name}_{label}: {q} loses points ({score:g}/{pts:g}) it does not game"
+    assert seen >= 5
+
+
+@pytest.mark.slow
 def test_graded_in_a_fresh_environment_built_from_the_zip_alone(graded):
     """The grading otter ran in a virtual environment built from the zip's environment.yml alone
     (pip from the registry, the zip's own orrc wheel), not in the project's .venv."""
@@ -76,8 +101,9 @@ def test_graded_in_a_fresh_environment_built_from_the_zip_alone(graded):
     for name, r in graded.items():
         exe = Path(r["python"])
         assert "fresh-envs" in exe.parts and ROOT / ".venv" not in exe.parents, f"{name} graded by {exe}"
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
         where = subprocess.run([str(exe), "-c", "import orrc, otter; print(orrc.__file__)"], capture_output=True,
-                               text=True, check=True, cwd=Path(r["paths"]["student"]).parent).stdout.strip()
+                               text=True, check=True, cwd=Path(r["paths"]["student"]).parent, env=env).stdout.strip()
         assert "site-packages" in where and not where.startswith(str(ROOT / "orrc")), where
 
 
@@ -107,7 +133,7 @@ def test_solution_gets_full_marks_and_blank_does_not(graded, name):
     assert sol["points"] > 0 and sol["score"] == sol["points"], assignments.summary([r])[0]
     assert blank["points"] == sol["points"]
     assert blank["score"] <= 0.25 * blank["points"], f"{name}: the untouched student notebook gets {blank['score']:g}"
-    assert re.fullmatch(rf"{name}: solution (\d+)/\1 points, blank \d+/\1 points", assignments.line(r))
+    assert re.fullmatch(rf"{name}: solution ([\d.]+)/\1 points, blank [\d.]+/\1 points", assignments.line(r))
 
 
 def _failed(output: str, question: str) -> set[int]:
@@ -231,3 +257,146 @@ def test_every_exercise_has_time_and_difficulty_in_the_guide():
     assert not missing, f"exercises without time and difficulty in the guide's table: {missing}"
     syllabus = guide[guide.index("## Syllabus"):guide.index("## The exercises")]
     assert all(re.search(rf"\| {i}\b|\b{i}; exam|, and {i}|\b{i} \|", syllabus) for i in range(1, 6))
+
+
+def json_text(outputs) -> str:
+    """What a cell's outputs show, as one string."""
+    return json.dumps([dict(o) for o in outputs])
+
+
+def _handout_of(master: Path, dest: Path) -> Path:
+    """A stand-in for otter's student notebook: the master without its solution regions, in-cell
+    solution blocks and hidden tests (what otter removes), the rest as it is."""
+    import nbformat
+
+    from tools import handout_leaks
+
+    nb = nbformat.read(master, as_version=4)
+    cells, region = [], False
+    for cell in nb.cells:
+        if cell.cell_type == "raw":
+            region = {"BEGIN SOLUTION": True, "END SOLUTION": False}.get(handout_leaks._raw_head(cell), region)
+            continue
+        if cell.cell_type == "code" and "hidden: true" in cell.source:
+            continue
+        if region and cell.cell_type == "markdown":
+            continue
+        if cell.cell_type == "code":
+            kept, inside = [], False
+            for ln in cell.source.split("\n"):
+                if re.match(r"\s*#\s*BEGIN\s+SOLUTION", ln):
+                    inside = True
+                elif re.match(r"\s*#\s*END\s+SOLUTION", ln):
+                    inside = False
+                elif not inside:
+                    kept.append(re.sub(r"=.*#\s*SOLUTION\s*$", "= ...", ln) if "=" in ln
+                                else re.sub(r"\S.*#\s*SOLUTION\s*$", "...", ln))
+            cell.source = "\n".join(kept)
+        cells.append(cell)
+    nb.cells = cells
+    nbformat.write(nb, dest)
+    return dest
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_the_leak_check_sees_a_planted_leak(tmp_path, name):
+    """The build's leak check (tools.handout_leaks) passes a handout without solutions and fails
+    one with a sentence of a written solution, a solution comment, a number of a solution, or a
+    line of a hidden test planted anywhere in it (a markdown cell, a code cell, the metadata)."""
+    import nbformat
+
+    from tools import handout_leaks
+
+    master = assignments.to_ipynb(assignments.SOURCES / name / f"{name}.md", tmp_path / "master.ipynb")
+    clean = _handout_of(master, tmp_path / "clean.ipynb")
+    assert handout_leaks.leaks(master, clean) == []
+    secrets = handout_leaks.secrets(master)
+    assert secrets["prose"] and secrets["code"] and secrets["tests"], secrets
+    plants = {"prose": ("markdown", secrets["prose"][-1]),
+              "comment": ("code", next(c for c in secrets["code"] if c.startswith("#"))),
+              "code": ("code", secrets["code"][0]),
+              "test": ("metadata", secrets["tests"][0])}
+    if secrets["numbers"]:
+        plants["number"] = ("markdown", f"You should find about {secrets['numbers'][0]}.")
+    for kind, (where, text) in plants.items():
+        nb = nbformat.read(clean, as_version=4)
+        if where == "markdown":
+            nb.cells.append(nbformat.v4.new_markdown_cell(f"Hint: {text}"))
+        elif where == "code":
+            nb.cells[3].source += f"\n{text}"
+        else:
+            nb.metadata["otter"] = {"tests": {"q": text}}
+        planted = tmp_path / f"planted_{kind}.ipynb"
+        nbformat.write(nb, planted)
+        assert handout_leaks.leaks(master, planted), f"{name}: a planted {kind} ({text[:60]!r}) is not caught"
+
+
+def test_what_you_should_see_and_reasoning_stay_in_the_solutions():
+    """The results a question leads to, and the reasoning of a prediction, are solution text."""
+    from tools import handout_leaks
+
+    for name in NAMES:
+        text = (assignments.SOURCES / name / f"{name}.md").read_text(encoding="utf-8")
+        last = text[text.rindex("# END QUESTION"):]
+        assert not last.split("```", 1)[1].strip(), f"{name}: text after the last question reaches students"
+        assert "my reasoning" not in text, name
+    assert handout_leaks.significant_digits("0.595") == 3 and handout_leaks.significant_digits("400") == 1
+    assert handout_leaks.numbers("slope 0.595 at T = 400, seed 2024") == {"0.595", "2024"}
+
+
+@pytest.mark.slow
+def test_a_student_sets_up_from_the_handout_alone(graded, tmp_path):
+    """The handout's requirements.txt installs, in a fresh environment, what runs the notebook and
+    its public tests: the same pinned list the autograder grades with (so the environment the
+    gradings built is the one a student's file gives, reused here), and the wheel beside it."""
+    import subprocess
+    import zipfile
+
+    import nbformat
+
+    from fresh_env import fresh_env, with_wheels
+
+    r = graded[NAMES[0]]
+    handout = Path(r["paths"]["student"]).parent
+    lines = [ln.strip() for ln in (handout / "requirements.txt").read_text(encoding="utf-8").splitlines()
+             if ln.strip() and not ln.startswith("#")]
+    wheels = [ln for ln in lines if ln.endswith(".whl")]
+    assert len(wheels) == 1 and (handout / wheels[0]).is_file(), lines
+    registry = [ln for ln in lines if ln not in wheels]
+    assert all("==" in ln for ln in registry), [ln for ln in registry if "==" not in ln]
+    with zipfile.ZipFile(r["paths"]["autograder"]) as zf:
+        pip = next(d["pip"] for d in yaml.safe_load(zf.read("environment.yml"))["dependencies"] if isinstance(d, dict))
+    assert registry == [p for p in pip if not p.endswith(".whl")], "the student's pins are the grader's"
+    exe = with_wheels(fresh_env("autograder", registry, base=handout), [handout / wheels[0]])
+    work = tmp_path / "handout"
+    shutil.copytree(handout, work)
+    shutil.copy(Path(r["paths"]["student"]).parents[2] / "submissions" / "wrong.ipynb", work / f"{NAMES[0]}.ipynb")
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    run = subprocess.run([str(exe), "-c", "import nbformat, nbclient, sys; nb = nbformat.read(sys.argv[1], 4); "
+                          "nbclient.NotebookClient(nb, kernel_name='python3', timeout=600, "
+                          "resources={'metadata': {'path': sys.argv[2]}}).execute(); nbformat.write(nb, sys.argv[1])",
+                          str(work / f"{NAMES[0]}.ipynb"), str(work)], cwd=work, env=env, capture_output=True,
+                         text=True, timeout=900)
+    assert run.returncode == 0, run.stderr[-3000:]
+    nb = nbformat.read(work / f"{NAMES[0]}.ipynb", as_version=4)
+    checks = {c.source.split('"')[1]: json_text(c.outputs) for c in nb.cells
+              if c.cell_type == "code" and c.source.startswith("grader.check(")}
+    assert "passed" in checks["q2_derivation"] and "failed" not in checks["q2_derivation"].lower(), checks
+    assert "failed" in checks["q1_plan"].lower(), "the public tests point at the wrong Question 1"
+
+
+@pytest.mark.slow
+def test_the_lecturer_gets_a_clean_solution_and_its_pdf(graded):
+    """The solution notebook without markers, otter cells or tests, and a PDF of it, per assignment."""
+    import nbformat
+
+    for name, r in graded.items():
+        nb = nbformat.read(r["paths"]["clean_solution"], as_version=4)
+        code = "\n".join(c.source for c in nb.cells if c.cell_type == "code")
+        text = "\n".join(c.source for c in nb.cells)
+        assert "SOLUTION" not in text and "BEGIN QUESTION" not in text and "grader.check" not in code, name
+        assert "def test_" not in text and "otter" not in nb.metadata, name
+        sol = assignments.read_assignment(assignments.SOURCES / name / f"{name}.md")
+        assert text.count("graded by hand") == sum(q["manual"] for q in sol["questions"]), name
+        pdf = Path(r["paths"]["solutions_pdf"])
+        assert pdf.read_bytes()[:5] == b"%PDF-" and pdf.stat().st_size > 5000, name

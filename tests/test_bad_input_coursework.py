@@ -116,3 +116,61 @@ def test_the_gradebook_refuses_what_it_cannot_grade(tmp_path, capsys):
     assert "a9_nowhere" in err and "make assignments" in err
     assert gradebook.main(["a9_nowhere", str(tmp_path / "missing")]) == 2
     assert "not a folder" in capsys.readouterr().err
+
+
+def test_the_gradebook_refuses_a_bad_roster_deadline_or_limit(tmp_path, capsys):
+    from tools import gradebook
+
+    (tmp_path / "subs").mkdir()
+    base = ["a1_preview_rhc", str(tmp_path / "subs"), "-o", str(tmp_path / "out")]
+    assert gradebook.main(base + ["--deadline", "next friday"]) == 2
+    err = capsys.readouterr().err
+    assert "next friday" in err and "ISO" in err
+    roster = tmp_path / "roster.csv"
+    roster.write_text("student,mail\nx,y\n", encoding="utf-8")
+    assert gradebook.main(base + ["--roster", str(roster)]) == 2
+    err = capsys.readouterr().err
+    assert "id, name, email" in err and "roster.csv" in err
+    assert gradebook.main(base + ["--roster", str(tmp_path / "nowhere.csv")]) == 2
+    assert "nowhere.csv" in capsys.readouterr().err
+    assert gradebook.main(base + ["--time-limit", "0"]) == 2
+    assert "--time-limit" in capsys.readouterr().err
+
+
+def test_a_test_cell_gets_the_prelude_and_loses_the_students_numpy():
+    from tools.grading_prelude import PRELUDE, with_prelude
+
+    src = '""" # BEGIN TEST CONFIG\npoints: 1\n""" # END TEST CONFIG\ndef test_q(f, np, orrc):\n    assert close(f(1.0), 2.0)\n'
+    out = with_prelude(src)
+    assert "def test_q(f):" in out and PRELUDE.strip() in out and out.startswith('""" # BEGIN TEST CONFIG')
+    ns = {}
+    exec(out.split("# END TEST CONFIG", 1)[1], ns)
+    ns["test_q"](lambda x: 2 * x)
+    import numpy as np
+    saved = np.isclose
+    try:
+        np.isclose = lambda *a, **k: True
+        with pytest.raises(AssertionError, match="replaced numpy.isclose"):
+            ns["test_q"](lambda x: 2 * x)
+    finally:
+        np.isclose = saved
+
+
+def test_a_forbidden_package_function_raises_wherever_it_is_held_and_comes_back():
+    """While a student's function is graded, a package function the question asks for raises, even
+    through a reference taken before (``from orrc.theory import gamma_c``); afterwards it works."""
+    import orrc
+    from orrc.theory import gamma_c as held
+    from tools.grading_prelude import with_prelude
+
+    ns = {}
+    exec(with_prelude("def tools():\n    return forbidden, close\n"), ns)
+    forbidden, close = ns["tools"]()
+    before = held(30, 0.99, 1.0, 2.0, 1.0)
+    with forbidden(orrc.theory):
+        with pytest.raises(RuntimeError, match="write yourself"):
+            held(30, 0.99, 1.0, 2.0, 1.0)
+        with pytest.raises(RuntimeError, match="write yourself"):
+            orrc.theory.gamma_c(30, 0.99, 1.0, 2.0, 1.0)
+    assert held(30, 0.99, 1.0, 2.0, 1.0) == before
+    assert close([1.0, 2.0], [1.0, 2.0 + 1e-9]) and not close([1.0, 2.0], [1.0, 2.1]) and not close([1.0], [1.0, 2.0, 3.0])

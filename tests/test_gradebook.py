@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import atexit
 import csv
+import datetime as dt
+import os
 import re
 import shutil
 import subprocess
@@ -30,6 +32,9 @@ from tools import assignments
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = (ROOT / "README.md", ROOT / "book" / "instructors.md")
 FIRST = "a1_preview_rhc"        # the assignment the documented commands grade
+DEADLINE = dt.datetime(2026, 3, 1, 17, 0, tzinfo=dt.timezone.utc)   # the documented command's --deadline
+LOOP_LIMIT = 90                 # seconds a notebook may run in these gradings
+NETWORK_MARK = Path(tempfile.gettempdir()) / f"orrc-network-mark-{os.getpid()}"
 
 
 def documented_commands() -> list[tuple[str, str]]:
@@ -68,8 +73,35 @@ def _class_folder(graded, folder: Path) -> dict[str, str]:
     with zipfile.ZipFile(folder / "exported.zip", "w") as zf:   # what the export cell writes
         zf.write(r["paths"]["solution"], f"{FIRST}.ipynb")
         zf.writestr(".OTTER_LOG", b"")
+    looping = nbformat.read(r["paths"]["solution"], as_version=4)   # an endless loop in one answer
+    next(c for c in looping.cells if c.cell_type == "code" and "def R_curve" in c.source).source = "while True:\n    pass\n"
+    nbformat.write(looping, folder / "looping.ipynb")
+    net = nbformat.read(r["paths"]["solution"], as_version=4)       # tries the network, records what it got
+    cell = next(c for c in net.cells if c.cell_type == "code" and "def R_curve" in c.source)
+    cell.source = (f"import socket\ntry:\n    socket.create_connection(('pypi.org', 443), timeout=5).close()\n"
+                   f"    _seen = 'reached'\nexcept OSError:\n    _seen = 'blocked'\n"
+                   f"open({str(NETWORK_MARK)!r}, 'w').write(_seen)\n" + cell.source)
+    nbformat.write(net, folder / "network.ipynb")
+    shutil.copy(r["paths"]["student"], folder / "alice.ipynb")      # one student, two files: the zip is newer
+    with zipfile.ZipFile(folder / "alice.zip", "w") as zf:
+        zf.write(r["paths"]["solution"], f"{FIRST}.ipynb")
+    before = DEADLINE.timestamp() - 86400
+    for f in folder.iterdir():
+        os.utime(f, (before, before))
+    os.utime(folder / "alice.zip", (before + 3600, before + 3600))
+    os.utime(folder / "one_wrong.ipynb", (DEADLINE.timestamp() + 7500, DEADLINE.timestamp() + 7500))  # 2 h 5 min late
     return {"right": "right", "blank": "blank", "one_wrong": label, "broken": "broken", "empty": "empty",
-            "foreign": other, "not_a_notebook": "text", "exported": "right, as the export cell's zip"}
+            "foreign": other, "not_a_notebook": "text", "exported": "right, as the export cell's zip",
+            "looping": "an endless loop", "network": "right, after trying the network",
+            "alice": "blank, then right as a zip", "absent": "on the roster, no file"}
+
+
+def _roster(path: Path, students) -> None:
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(["id", "name", "email"])
+        for s in sorted(students):
+            w.writerow([s, f"Student {s.title()}", f"{s}@example.edu"])
 
 
 @pytest.fixture(scope="module")
@@ -89,9 +121,12 @@ def run_the_documented_commands(graded):
     shutil.copytree(ROOT / "tools", here / "tools", ignore=shutil.ignore_patterns("__pycache__"))
     shutil.copy(graded[FIRST]["paths"]["solution"], here / "submission.ipynb")
     kinds = _class_folder(graded, here / "submissions")
+    _roster(here / "roster.csv", kinds)
     runs = []
+    env = dict(os.environ, ORRC_GRADING_TIME_LIMIT=str(LOOP_LIMIT))   # the endless loop costs LOOP_LIMIT s only
     for doc, block in documented_commands():
-        proc = subprocess.run(["bash", "-e", "-c", block], cwd=here, capture_output=True, text=True, timeout=900)
+        proc = subprocess.run(["bash", "-e", "-c", block], cwd=here, capture_output=True, text=True, timeout=900,
+                              env=env)
         runs.append((doc, block, proc))
     return {"dir": here, "kinds": kinds, "runs": runs}
 
@@ -109,10 +144,11 @@ def test_the_gradebook_of_a_class(clone, graded):
     book = clone["dir"] / "grades" / FIRST / "gradebook.csv"
     assert book.is_file(), "the documented gradebook command wrote no gradebook.csv"
     rows = {r["student"]: r for r in csv.DictReader(book.open(encoding="utf-8"))}
-    assert set(rows) == set(clone["kinds"]), "one row per submission"
+    assert set(rows) == set(clone["kinds"]), "one row per student"
     questions = [q["name"] for q in assignments.read_assignment(assignments.SOURCES / FIRST / f"{FIRST}.md")["questions"]
                  if q["tests"]]
-    assert list(rows["right"])[1:len(questions) + 1] == questions, "one column per question, in order"
+    columns = [c for c in rows["right"] if c not in ("student", "name", "email")]
+    assert columns[:len(questions)] == questions, "one column per question, in order"
     possible = float(rows["right"]["possible"])
     assert float(rows["right"]["total"]) == possible and not rows["right"]["note"]
     assert float(rows["exported"]["total"]) == possible and not rows["exported"]["note"]
@@ -125,8 +161,42 @@ def test_the_gradebook_of_a_class(clone, graded):
     assert "no cells" in rows["empty"]["note"] and float(rows["empty"]["total"]) == 0
     assert clone["kinds"]["foreign"] in rows["foreign"]["note"] and float(rows["foreign"]["total"]) == 0
     assert "not a Jupyter notebook" in rows["not_a_notebook"]["note"]
-    for student in rows:
+    for student in set(rows) - {"absent"}:
         assert (clone["dir"] / "grades" / FIRST / "feedback" / f"{student}.md").is_file(), student
+
+
+@pytest.mark.slow
+def test_a_class_graded_safely(clone):
+    """An endless loop, a student with two files, a notebook that tries the network, a late file and
+    a student with no file: one row each, with the roster's name and email, and the batch goes on."""
+    from tools import gradebook
+
+    book = clone["dir"] / "grades" / FIRST / "gradebook.csv"
+    rows = {r["student"]: r for r in csv.DictReader(book.open(encoding="utf-8"))}
+    possible = float(rows["right"]["possible"])
+    assert rows["right"]["name"] == "Student Right" and rows["right"]["email"] == "right@example.edu"
+    assert "time limit" in rows["looping"]["note"] and float(rows["looping"]["total"]) == 0
+    assert float(rows["alice"]["total"]) == possible and "alice.zip" in rows["alice"]["note"]
+    assert "2 files" in rows["alice"]["note"]
+    assert rows["absent"]["note"] == "no submission" and float(rows["absent"]["total"]) == 0
+    assert rows["one_wrong"]["late"] == "late by 2 h 5 min"
+    assert all(not r["late"] for s, r in rows.items() if s != "one_wrong")
+    assert float(rows["network"]["total"]) == possible
+    written = clone["dir"] / "grades" / FIRST / "written"
+    for student in ("right", "alice", "network", "one_wrong"):   # one PDF of written answers per submission
+        pdf = written / f"{student}.pdf"
+        assert pdf.is_file() and pdf.read_bytes()[:5] == b"%PDF-", student
+    assert float(rows["right"]["written_possible"]) > 0 and rows["right"]["written"] == ""
+    if gradebook.network_isolation():
+        assert NETWORK_MARK.read_text() == "blocked", "a student's notebook reached the network"
+
+
+def test_the_output_folders_of_the_documented_commands_are_ignored_by_git():
+    """Student work and hidden tests are never one `git add -A` away from a commit."""
+    for folder in ("grades/a1_preview_rhc/gradebook.csv", "results/student1/results.json", "submissions/alice.ipynb",
+                   "_build/assignments/x"):
+        proc = subprocess.run(["git", "check-ignore", "-q", folder], cwd=ROOT)
+        assert proc.returncode == 0, f"{folder} is not ignored by git"
 
 
 def hidden_test_lines(name: str) -> list[str]:

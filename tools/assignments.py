@@ -9,8 +9,10 @@ it needs and how long a student takes (``orrc_assignment: {chapters: [...], minu
 For every assignment, :func:`build` converts the source to ``.ipynb`` (jupytext; otter assign
 reads notebooks), makes its autograder self-contained (:func:`self_contained`: the orrc wheel and the
 pinned requirements of :mod:`tools.autograder_env` in its config) and runs ``otter assign`` into
-``_build/assignments/NAME/``: ``student/NAME.ipynb`` (solutions and hidden tests removed: what
-students get) and ``autograder/`` (the solution notebook and the autograder zip). :func:`grade`
+``_build/assignments/NAME/``: ``student/`` (what students get: ``NAME.ipynb``, solutions and
+hidden tests removed, the orrc wheel and ``requirements.txt``, the pinned list to set up from,
+see :func:`write_student_requirements`), ``solution/`` (for the lecturer: the solution notebook
+without markers or tests, :func:`clean_solution`, and it as a PDF) and ``autograder/`` (the solution notebook and the autograder zip). :func:`grade`
 grades a notebook with ``otter run`` (locally, no container; by default with this environment's
 otter and kernel, or with another interpreter's, e.g. a fresh environment built from the zip
 alone). Questions marked ``manual: true`` are written answers graded by hand (no tests; their
@@ -26,6 +28,7 @@ from __future__ import annotations
 import argparse
 import ast
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -36,7 +39,7 @@ from pathlib import Path
 
 import yaml
 
-from tools import autograder_env
+from tools import autograder_env, grading_prelude, handout_leaks, written_answers
 
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = ROOT / "assignments"
@@ -169,6 +172,18 @@ def leaked_solutions(master: Path, student: Path) -> list[str]:
     return [ln for ln in _solution_text(master) if ln in text]
 
 
+def own_their_tools(master: Path) -> None:
+    """Give every test of ``master`` the grading prelude (:mod:`tools.grading_prelude`): its own
+    numpy and orrc, its own tolerances, package functions forbidden while a student's is graded."""
+    import nbformat
+
+    nb = nbformat.read(master, as_version=4)
+    for cell in nb.cells:
+        if cell.cell_type == "code" and _CONFIG_DOC.match(cell.source):
+            cell.source = grading_prelude.with_prelude(cell.source)
+    nbformat.write(nb, master)
+
+
 def self_contained(master: Path, wheel: Path) -> None:
     """Make the autograder of ``master`` grade anywhere: its assignment config gets the orrc wheel
     (``files``: in the zip's ``files/`` and beside the student notebook), the pinned requirements
@@ -186,6 +201,59 @@ def self_contained(master: Path, wheel: Path) -> None:
     nbformat.write(nb, master)
 
 
+STUDENT_REQUIREMENTS = "requirements.txt"
+_STUDENT_SETUP = """\
+# Everything this assignment's notebook needs, pinned, for Python {python}. From this folder:
+#   python{python} -m venv .venv
+#   .venv/bin/pip install -r requirements.txt
+# then open the notebook with JupyterLab (.venv/bin/pip install jupyterlab), VS Code or any
+# Jupyter front end, choosing this environment's kernel. On a JupyterHub or on Colab, upload this
+# folder's files and run  %pip install -r requirements.txt  in a cell before the first one.
+"""
+
+
+def wheel_name(folder: Path) -> str:
+    """The name of the one orrc wheel in ``folder``."""
+    wheels = sorted(Path(folder).glob("orrc-*.whl"))
+    if len(wheels) != 1:
+        raise RuntimeError(f"{folder}: {len(wheels)} orrc wheels (one expected)")
+    return wheels[0].name
+
+
+def write_student_requirements(folder: Path, wheel: str) -> Path:
+    """The handout's ``requirements.txt``: the pinned list the autograder grades with (same
+    versions, so a student's results are the grader's) and the orrc wheel beside it."""
+    lines = [ln for ln in autograder_env.grading_requirements(wheel) if not ln.endswith(".whl")]
+    path = Path(folder) / STUDENT_REQUIREMENTS
+    path.write_text(_STUDENT_SETUP.format(python=autograder_env.python_version()) + "\n".join(lines + [wheel]) + "\n",
+                    encoding="utf-8")
+    return path
+
+
+def clean_solution(solution: Path, dest: Path):
+    """The solution notebook for the lecturer: otter's, without its solution markers, question
+    comments, otter cells (``grader.check``, the export cell) and tests; written to ``dest``."""
+    import nbformat
+
+    nb = nbformat.read(solution, as_version=4)
+    cells = []
+    for cell in nb.cells:
+        if cell.cell_type == "raw" or (cell.cell_type == "code" and ("grader." in cell.source or "otter" in cell.source)):
+            continue
+        src = re.sub(r"\n?[ \t]*#\s*(BEGIN|END) SOLUTION( NO PROMPT)?[ \t]*(?=\n|$)", "", cell.source)
+        src = re.sub(r"[ \t]*#\s*SOLUTION\s*$", "", src, flags=re.M)
+        src = re.sub(r"<!--\s*(BEGIN|END) QUESTION\s*-->\s*", "", src).strip()
+        if src:
+            cell.source = src
+            cell.metadata.pop("tags", None)
+            cells.append(cell)
+    nb.cells = cells
+    nb.metadata.pop("otter", None)
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    nbformat.write(nb, dest)
+    return nb
+
+
 def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None = None) -> dict:
     """``otter assign`` one assignment into ``out/NAME``: paths of the student and solution notebooks
     and of the autograder zip. ``wheel``: the orrc wheel to put in the autograder (built if None)."""
@@ -193,6 +261,7 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None =
     if dest.exists():
         shutil.rmtree(dest)
     master = to_ipynb(Path(root) / name / f"{name}.md", dest / "master" / f"{name}.ipynb")
+    own_their_tools(master)
     self_contained(master, wheel or autograder_env.build_wheel(dest / "wheel"))
     proc = subprocess.run([_bin("otter"), "assign", str(master), str(dest / "dist")], capture_output=True, text=True,
                           cwd=master.parent)
@@ -202,12 +271,19 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None =
     if len(zips) != 1:
         raise RuntimeError(f"otter assign wrote {len(zips)} autograder zips for {name}")
     leaks = leaked_solutions(master, dest / "dist" / "student" / f"{name}.ipynb")
+    leaks += handout_leaks.leaks(master, dest / "dist" / "student" / f"{name}.ipynb")
     if leaks:
         raise RuntimeError(f"{name}: the student notebook still holds solution or hidden-test text "
-                           f"(a solution cell outside a BEGIN/END SOLUTION block?): {leaks[:3]}")
+                           f"(a solution outside a BEGIN/END SOLUTION block, a sentence or number of a "
+                           f"solution or hidden test in the handout's text?): {leaks[:3]}")
     shutil.rmtree(dest / "master")  # the master holds the hidden tests and solutions: keep only otter's output
+    write_student_requirements(dest / "dist" / "student", wheel_name(dest / "dist" / "student"))
+    solution = clean_solution(dest / "dist" / "autograder" / f"{name}.ipynb", dest / "dist" / "solution" / f"{name}.ipynb")
+    written_answers.solution_pdf(dest / "dist" / "solution" / f"{name}-solutions.pdf", solution)
     return {"student": dest / "dist" / "student" / f"{name}.ipynb",
-            "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0]}
+            "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0],
+            "clean_solution": dest / "dist" / "solution" / f"{name}.ipynb",
+            "solutions_pdf": dest / "dist" / "solution" / f"{name}-solutions.pdf"}
 
 
 def grade(notebook: Path, autograder: Path, workdir: Path, python: str | None = None) -> dict:
@@ -221,8 +297,10 @@ def grade(notebook: Path, autograder: Path, workdir: Path, python: str | None = 
         shutil.rmtree(workdir)
     workdir.mkdir(parents=True)
     cmd = [python, "-m", "otter"] if python else [_bin("otter")]
+    # another interpreter grades with its own packages only: nothing of this checkout on its path
+    env = {k: v for k, v in os.environ.items() if not (python and k in ("PYTHONPATH", "VIRTUAL_ENV"))}
     proc = subprocess.run([*cmd, "run", "-a", str(Path(autograder).resolve()), "-o", str(workdir.resolve()), "--no-logo",
-                           str(Path(notebook).resolve())], capture_output=True, text=True, cwd=workdir)
+                           str(Path(notebook).resolve())], capture_output=True, text=True, cwd=workdir, env=env)
     results = workdir / "results.json"
     if not results.is_file():
         raise RuntimeError(f"otter run wrote no results for {notebook}:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
