@@ -13,16 +13,15 @@ how a forecast error of a known size is made for an experiment. The controller n
 truth. Models compose by ``+``: the errors add, ``Noisy(0.1) + Bias(0.05)`` is the truth plus
 noise plus a bias.
 
-==========================  ============================================================
-:class:`Exact`              ŵ_{t+j|t} = w_{t+j} (Algorithm 1's preview)
-:class:`Zero`               ŵ_{t+j|t} = 0 (no preview: what Algorithm 3 plans around)
-:class:`Noisy`              w_{t+j} + ê_{t,j}, ê_{t,j} ~ N(0, (s_f(1 + g_f j))² I): noise growing with the lead j
-:class:`Bias`               w_{t+j} + b
-:class:`Delay`              w_{t+j-d}: a forecast d steps late (zeros before the start)
-:class:`AR`                 a least-squares autoregressive model fitted online on w_{0:t-1}, run
-                            forward (never reads the truth)
-:class:`AdversarialError`   w_{t+j} + ê_{t,j} with ‖ê_{t,j}‖ = r_E, pointed against w_{t+j}
-==========================  ============================================================
+* :class:`Exact`: ŵ_{t+j|t} = w_{t+j} (Algorithm 1's preview);
+* :class:`Zero`: ŵ_{t+j|t} = 0 (no preview: what Algorithm 3 plans around);
+* :class:`Noisy`: w_{t+j} + ê_{t,j}, ê_{t,j} ~ N(0, (s_f(1 + g_f j))² I), noise growing with the
+  lead j;
+* :class:`Bias`: w_{t+j} + b;
+* :class:`Delay`: w_{t+j-d}, a forecast d steps late (zeros before the start);
+* :class:`AR`: a least-squares autoregressive model fitted online on w_{0:t-1}, run forward (it
+  never reads the truth);
+* :class:`AdversarialError`: w_{t+j} + ê_{t,j} with ‖ê_{t,j}‖ = r_E, pointed against w_{t+j}.
 
 Used by the robust-preview and λ-confident controllers (:mod:`orrc.controllers.forecast`).
 """
