@@ -78,7 +78,7 @@ def compare(system, cost, controllers: dict, w, T: int, gamma: float, x0=None, w
 @dataclass
 class PreviewValue:
     """ks, regret (dynamic regret of PreviewRHC(M, preview_w=k)), excess = regret − regret at k = M,
-    rate (the fitted r of excess ≈ C r^k), r2 (of the log-linear fit), lambda_K_sq = ρ(A − BK_LQR)²."""
+    rate (the fitted r of excess ≈ C r^k), r2 (of the log-linear fit), lambda_K_sq = λ_K² (λ_K the spectral radius of A − BK_LQR)."""
 
     ks: np.ndarray
     regret: np.ndarray
