@@ -48,9 +48,14 @@ def test_metric_bars_use_a_log_axis_when_values_span_decades_and_every_bar_is_vi
     for p, v in zip(ax.patches, vals):                      # each bar starts inside the axis, ends at v
         assert lo <= p.get_x() < v and p.get_x() + p.get_width() == pytest.approx(v)
     assert hi > vals.max()
-    # with the clairvoyant's 0 the axis stays linear (a 0 has no place on a log axis) and 0 is printed
+    # the clairvoyant's 0 has no bar on the log axis, but its value is printed
     ax0 = cp.metric_bars(compare(s, c, ctrl, w, 30, 1.0), "dynamic_regret").axes[0]
-    assert ax0.get_xscale() == "linear" and ax0.texts[-1].get_text() == "0"
+    assert ax0.get_xscale() == "log" and ax0.texts[-1].get_text() == "0"
+    assert ax0.patches[-1].get_width() == 0.0 and ax0.patches[0].get_width() > 0
+    # values within two decades keep a linear axis
+    costs = [r.cost for r in rows]
+    assert max(costs) < 100 * min(costs)
+    assert cp.metric_bars(rows, "cost").axes[0].get_xscale() == "linear"
 
 
 def test_preview_decay_draws_the_excess_and_the_fit(scalar):

@@ -34,9 +34,9 @@ def metric_bars(rows, metric: str, title: str | None = None, log: bool | None = 
     title : str, optional
         The axes' title.
     log : bool, optional
-        A logarithmic axis. Default (None): logarithmic when every value is positive and they span more
-        than two decades, so that the smallest bars stay visible. On a logarithmic axis a value <= 0 has
-        no bar; its value is still printed.
+        A logarithmic axis. Default (None): logarithmic when every value is >= 0 and the positive ones
+        span more than two decades, so that the smallest bars stay visible. On a logarithmic axis a
+        value <= 0 (the clairvoyant optimum's zero regret) has no bar; its value is still printed.
 
     Returns
     -------
@@ -64,7 +64,7 @@ def metric_bars(rows, metric: str, title: str | None = None, log: bool | None = 
     vals = np.array([float(getattr(r, metric)) for r in kept])
     positive = vals[vals > 0]
     if log is None:
-        log = bool(np.all(vals > 0) and vals.max() > 100 * vals.min())
+        log = bool(np.all(vals >= 0) and positive.size and positive.max() > 100 * positive.min())
     fig, axes = _figure(width=7.0, height=0.45 * len(kept) + 1.2)
     ax = axes[0, 0]
     y = np.arange(len(kept))[::-1]
