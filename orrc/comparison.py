@@ -4,7 +4,7 @@
   R^p_T(γ), dynamic regret against :class:`~orrc.Clairvoyant`, and for linear loops the exact
   worst-case attenuation and worst-case regret over T steps (:mod:`orrc.certify`);
 * :func:`preview_value` -- the dynamic regret of ``PreviewRHC(M, preview_w=k)`` against k, with the
-  exponential fit regret(k) − regret(M) ≈ C r^k and the rate ρ(A − BK_LQR)² that the literature
+  exponential fit regret(k) − regret(M) ≈ C r^k and the rate λ_K² (λ_K the spectral radius of A − BK_LQR) that the literature
   predicts (Yu, Shi, Chung, Yue and Wierman 2020; Zhang, Li and Li 2021).
 """
 from __future__ import annotations
@@ -139,7 +139,7 @@ class PreviewValue:
     excess : (k,) regret − regret at k = M.
     rate : the fitted r of excess ≈ C r^k.
     r2 : the R² of the log-linear fit.
-    rho_sq : ρ(A − BK_LQR)², the rate the theory predicts.
+    lambda_K_sq : λ_K², λ_K the spectral radius of A − BK_LQR: the rate the theory predicts.
     M : the horizon.
 
     Examples
@@ -158,7 +158,7 @@ class PreviewValue:
     excess: np.ndarray
     rate: float
     r2: float
-    rho_sq: float
+    lambda_K_sq: float
     M: int
 
 
@@ -223,5 +223,5 @@ def preview_value(system, cost, M: int, ks, w, T: int, x0=None, fit_above: float
     tot = np.sum((np.log(excess[use]) - np.log(excess[use]).mean()) ** 2)
     lqr = LQR(system, cost)
     A, B = (system.A, system.B) if hasattr(system, "A") else system.linearize()
-    rho = float(np.max(np.abs(np.linalg.eigvals(A - B @ lqr.K))))
-    return PreviewValue(ks, reg, excess, float(np.exp(slope)), float(1 - resid @ resid / tot), rho ** 2, M)
+    lambda_K = float(np.max(np.abs(np.linalg.eigvals(A - B @ lqr.K))))
+    return PreviewValue(ks, reg, excess, float(np.exp(slope)), float(1 - resid @ resid / tot), lambda_K ** 2, M)

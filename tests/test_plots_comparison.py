@@ -21,10 +21,41 @@ def test_metric_bars_draw_each_controllers_value(scalar):
     _, _, _, rows = scalar
     fig = cp.metric_bars(rows, "dynamic_regret")
     assert isinstance(fig, Figure)
-    widths = [p.get_width() for p in fig.axes[0].patches]
-    assert widths == pytest.approx([r.dynamic_regret for r in rows])
+    ax = fig.axes[0]
+    vals = [r.dynamic_regret for r in rows]
+    # every value is printed beside its bar, bars and labels in the rows' order
+    assert [t.get_text() for t in ax.texts] == [f"{v:.3g}" for v in vals]
+    if ax.get_xscale() == "linear":
+        assert [p.get_width() for p in ax.patches] == pytest.approx(vals)
+    # a linear axis when asked: the bars are the values
+    lin = cp.metric_bars(rows, "cost", log=False).axes[0]
+    assert [p.get_width() for p in lin.patches] == pytest.approx([r.cost for r in rows])
     # rows without a worst case (the clairvoyant) are left out
     assert len(cp.metric_bars(rows, "worst_regret").axes[0].patches) == 2
+
+
+def test_metric_bars_use_a_log_axis_when_values_span_decades_and_every_bar_is_visible():
+    ex = orrc.examples.scalar_unstable()
+    s, c = ex.system, ex.cost
+    w = orrc.disturbances.uniform_ball(40, 1, 1.0, seed=0)
+    ctrl = {"LQR": orrc.LQR(s, c), "preview RHC": orrc.PreviewRHC(s, c, 10)}
+    rows = compare(s, c, ctrl, w, 30, 1.0)[:2]            # the clairvoyant's zero regret left out
+    vals = np.array([r.dynamic_regret for r in rows])
+    assert vals.max() > 100 * vals.min() > 0                # the case of the chapter's chart
+    ax = cp.metric_bars(rows, "dynamic_regret").axes[0]
+    assert ax.get_xscale() == "log"
+    lo, hi = ax.get_xlim()
+    for p, v in zip(ax.patches, vals):                      # each bar starts inside the axis, ends at v
+        assert lo <= p.get_x() < v and p.get_x() + p.get_width() == pytest.approx(v)
+    assert hi > vals.max()
+    # the clairvoyant's 0 has no bar on the log axis, but its value is printed
+    ax0 = cp.metric_bars(compare(s, c, ctrl, w, 30, 1.0), "dynamic_regret").axes[0]
+    assert ax0.get_xscale() == "log" and ax0.texts[-1].get_text() == "0"
+    assert ax0.patches[-1].get_width() == 0.0 and ax0.patches[0].get_width() > 0
+    # values within two decades keep a linear axis
+    costs = [r.cost for r in rows]
+    assert max(costs) < 100 * min(costs)
+    assert cp.metric_bars(rows, "cost").axes[0].get_xscale() == "linear"
 
 
 def test_preview_decay_draws_the_excess_and_the_fit(scalar):
@@ -34,7 +65,7 @@ def test_preview_decay_draws_the_excess_and_the_fit(scalar):
     dots, fit, rho = fig.axes[0].get_lines()[:3]
     np.testing.assert_allclose(dots.get_ydata(), pv.excess[pv.excess > 0])
     assert fit.get_ydata()[1] / fit.get_ydata()[0] == pytest.approx(pv.rate)
-    assert rho.get_ydata()[1] / rho.get_ydata()[0] == pytest.approx(pv.rho_sq)
+    assert rho.get_ydata()[1] / rho.get_ydata()[0] == pytest.approx(pv.lambda_K_sq)
 
 
 def test_running_cost_is_the_cumulative_cost(scalar):

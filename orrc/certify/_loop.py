@@ -118,7 +118,7 @@ def _operators(system, loop: _Loop, T: int) -> tuple[np.ndarray, np.ndarray]:
             if k >= 0:
                 U[:, k * n:(k + 1) * n] += loop.Lp[:, (i - 1) * n:i * n]
         if loop.Phi is not None:
-            U[:, :t * n] += loop.Phi[t * m:(t + 1) * m, :t * n]
+            U[:, :(t + 1) * n] += loop.Phi[t * m:(t + 1) * m, :(t + 1) * n]   # with full information, w_t too
         Xs.append(X)
         Us.append(U)
         X = A @ X + B @ U

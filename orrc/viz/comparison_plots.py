@@ -3,7 +3,7 @@
 * :func:`metric_bars` -- one metric (total cost, attenuation ratio, R^p_T(γ), dynamic regret, worst
   cases) for every controller, as horizontal bars (a rows list of :func:`orrc.comparison.compare`);
 * :func:`preview_decay` -- the dynamic regret of preview RHC against k, with its exponential fit and
-  the rate ρ(A − BK)² of the literature (:func:`orrc.comparison.preview_value`);
+  the rate λ_K² of the literature, λ_K the spectral radius of A − BK (:func:`orrc.comparison.preview_value`);
 * :func:`running_cost` -- Σ_{s<=t} c_s of several trajectories against t (an explorer frame).
 """
 from __future__ import annotations
@@ -22,9 +22,36 @@ _METRICS = {"cost": "total cost Σ c_t", "ratio": "attenuation ratio Σc / Σ‖
             "worst_attenuation": "worst-case level γ*_T", "worst_regret": "worst-case regret (‖w‖ ≤ 1)"}
 
 
-def metric_bars(rows, metric: str, title: str | None = None, log: bool = False) -> Figure:
-    """Horizontal bars of ``metric`` (a field of :class:`orrc.comparison.ComparisonRow`) per controller;
-    rows whose value is None (not a linear loop) are left out."""
+def metric_bars(rows, metric: str, title: str | None = None, log: bool | None = None) -> Figure:
+    """Horizontal bars of one field of :class:`orrc.comparison.ComparisonRow` per controller, values printed.
+
+    Parameters
+    ----------
+    rows : list of ComparisonRow
+        From :func:`orrc.comparison.compare`; rows whose value is None (not a linear loop) are left out.
+    metric : str
+        "cost", "ratio", "regret_p", "dynamic_regret", "worst_attenuation" or "worst_regret".
+    title : str, optional
+        The axes' title.
+    log : bool, optional
+        A logarithmic axis. Default (None): logarithmic when every value is >= 0 and the positive ones
+        span more than two decades, so that the smallest bars stay visible. On a logarithmic axis a
+        value <= 0 (the clairvoyant optimum's zero regret) has no bar; its value is still printed.
+
+    Returns
+    -------
+    Figure
+        One bar per kept row, each with its value (3 significant digits) printed beside it.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.comparison import compare
+    >>> ex = orrc.examples.scalar_unstable()
+    >>> w = orrc.disturbances.uniform_ball(12, 1, 1.0, seed=0)
+    >>> rows = compare(ex.system, ex.cost, {"LQR": orrc.LQR(ex.system, ex.cost)}, w, 10, 1.0)
+    >>> fig = metric_bars(rows, "cost")
+    """
     from ..comparison import ComparisonRow
 
     if metric not in _METRICS:
@@ -34,16 +61,27 @@ def metric_bars(rows, metric: str, title: str | None = None, log: bool = False) 
     kept = [r for r in rows if getattr(r, metric) is not None]
     if not kept:
         raise OrrcValueError(f"no row has a value for {metric!r}")
+    vals = np.array([float(getattr(r, metric)) for r in kept])
+    positive = vals[vals > 0]
+    if log is None:
+        log = bool(np.all(vals >= 0) and positive.size and positive.max() > 100 * positive.min())
     fig, axes = _figure(width=7.0, height=0.45 * len(kept) + 1.2)
     ax = axes[0, 0]
-    vals = [float(getattr(r, metric)) for r in kept]
     y = np.arange(len(kept))[::-1]
-    ax.barh(y, vals, color=[controller_color(r.name, i) for i, r in enumerate(kept)])
-    ax.set_yticks(y, [r.name for r in kept], fontsize=9)
-    if log:
+    if log and positive.size:
         ax.set_xscale("log")
-    ax.axvline(0.0, color="0.3", linewidth=0.8)
-    ax.set_xlabel(_METRICS[metric])
+        floor = positive.min() / 10   # bars start here; a value <= 0 gets no bar, only its label
+        bars = ax.barh(y, np.where(vals > 0, vals - floor, 0.0), left=floor,
+                       color=[controller_color(r.name, i) for i, r in enumerate(kept)])
+        ax.set_xlim(floor, positive.max() * 30)
+    else:
+        bars = ax.barh(y, vals, color=[controller_color(r.name, i) for i, r in enumerate(kept)])
+        ax.axvline(0.0, color="0.3", linewidth=0.8)
+        span = max(np.abs(vals).max(), 1e-300)
+        ax.set_xlim(min(0.0, vals.min() * 1.3), max(0.0, vals.max()) + 0.3 * span)
+    ax.bar_label(bars, labels=[f"{v:.3g}" for v in vals], padding=3, fontsize=9)
+    ax.set_yticks(y, [r.name for r in kept], fontsize=9)
+    ax.set_xlabel(_METRICS[metric] + (" (log scale)" if log and positive.size else ""))
     if title:
         ax.set_title(title, fontsize=10)
     return fig
@@ -51,7 +89,7 @@ def metric_bars(rows, metric: str, title: str | None = None, log: bool = False) 
 
 def preview_decay(pv, title: str | None = None) -> Figure:
     """regret(k) − regret(M) of preview RHC against k (dots, log scale), the fitted C r^k (line) and
-    the slope ρ² of the literature (dashed, through the first point)."""
+    the slope λ_K² of the literature, λ_K the spectral radius of A − BK (dashed, through the first point)."""
     from ..comparison import PreviewValue
 
     if not isinstance(pv, PreviewValue):
@@ -64,7 +102,8 @@ def preview_decay(pv, title: str | None = None) -> Figure:
     c0 = pv.excess[ok][0]
     ax.semilogy(pv.ks, c0 * pv.rate ** (pv.ks - k0), "-", color="tab:blue",
                 label=f"fit C·r^k, r = {pv.rate:.3g} (R² = {pv.r2:.3f})")
-    ax.semilogy(pv.ks, c0 * pv.rho_sq ** (pv.ks - k0), "--", color="black", label=f"ρ(A − BK)^(2k), ρ² = {pv.rho_sq:.3g}")
+    ax.semilogy(pv.ks, c0 * pv.lambda_K_sq ** (pv.ks - k0), "--", color="black",
+                label=f"$\\lambda_K^{{2k}}$, $\\lambda_K^2$ = {pv.lambda_K_sq:.3g}")
     ax.set_xlabel("previewed disturbances k")
     ax.set_ylabel("excess dynamic regret")
     legend_below(ax, fontsize=9)   # clear of the data
