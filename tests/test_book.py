@@ -301,6 +301,20 @@ _OVERFLOWING = """() => {
 }"""
 
 
+# blocks wider than the text column (whether or not they sit in a box that scrolls): at a laptop's
+# width no equation, table or code block may be (they are written to fit the column); at a phone's
+# no table may be (tables reflow; long equations and code scroll in their own box)
+_WIDE_BLOCKS = """() => {
+  const column = document.querySelector('#main-content article') || document.querySelector('#main-content');
+  const width = column.getBoundingClientRect().width;
+  const kind = e => e.tagName === 'TABLE' ? 'table' : (e.tagName === 'PRE' ? 'code' : 'equation');
+  const found = [];
+  column.querySelectorAll('div.math, mjx-container[display="true"], pre, table').forEach(e => {
+    const w = Math.max(e.scrollWidth, e.getBoundingClientRect().width);
+    if (w > width + 1) { found.push({kind: kind(e), width: Math.round(w), html: e.outerHTML.slice(0, 120)}); }
+  });
+  return found;
+}"""
 
 
 # every remote request is refused and recorded, so an offline failure shows up here too
@@ -490,6 +504,9 @@ async def check_page(chromium, page: str) -> None:
             assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
             # every block wider than its box scrolls in it, with a visible cue, and takes keyboard focus
             await pg.evaluate("() => window.orrcMarkOverflow && window.orrcMarkOverflow()")
+            wide = await pg.evaluate(_WIDE_BLOCKS)
+            too_wide = wide if width >= 1366 else [b for b in wide if b["kind"] == "table"]
+            assert not too_wide, f"{page} at {width} px: wider than the text column ({len(too_wide)}): {too_wide[:3]}"
             for box in await pg.evaluate(_OVERFLOWING):
                 assert box["overflowX"] in ("auto", "scroll"), f"{page} at {width} px: clipped, no scrolling: {box}"
                 assert box["cue"] and box["shadow"] != "none", f"{page} at {width} px: scrolls without a cue: {box}"
