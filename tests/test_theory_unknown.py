@@ -108,6 +108,26 @@ def test_lq_lipschitz_bounds_the_change_of_value_and_input_on_the_region():
     assert S.alpha_f_S == pytest.approx(np.linalg.norm(np.hstack([system.A, system.B]), 2), rel=0.05)
 
 
+def test_lq_lipschitz_takes_each_grid_points_own_derivative():
+    """α_V = ρ² max σ_max(∂vec H/∂θ) and α_κ = ρ max σ_max(∂vec G/∂θ), each Jacobian taken at one point of Θ:
+    compared with central differences of lq_value_matrices point by point (the grid's Jacobians must not mix)."""
+    system = orrc.LinearSystem([[0.5]], [[1.0]])
+    cost = orrc.QuadraticCost([[1.0]], [[0.1]])
+    M, radius, rho, h = 4, 0.2, 1.5, 1e-6
+    L = certify.lq_lipschitz(system, cost, M, radius=radius, rho=rho, grid=5)
+    sV, sK = [], []
+    for th in L.info["points"]:
+        cols = [[(a - b) / (2 * h) for a, b in zip(certify.lq_value_matrices(system, cost, M, th + h * e),
+                                                     certify.lq_value_matrices(system, cost, M, th - h * e))]
+                for e in np.eye(2)]
+        sV.append(np.linalg.norm(np.c_[cols[0][0].ravel(), cols[1][0].ravel()], 2))
+        sK.append(np.linalg.norm(np.c_[cols[0][1].ravel(), cols[1][1].ravel()], 2))
+    np.testing.assert_allclose(L.info["sigma_H"], sV, rtol=1e-6)
+    np.testing.assert_allclose(L.info["sigma_G"], sK, rtol=1e-6)
+    assert L.alpha_V == pytest.approx(rho ** 2 * max(sV), rel=1e-6)
+    assert L.alpha_kappa == pytest.approx(rho * max(sK), rel=1e-6)
+
+
 def test_sampled_lipschitz_of_a_nonlinear_model_uses_one_nlp():
     from test_estimation import pendulum_model
 

@@ -265,8 +265,9 @@ def lq_lipschitz(system: LinearSystem, cost: QuadraticCost, M: int, radius: floa
     _, jac = _lq_functions(n, m, M, np.ascontiguousarray(cost.Q, float).tobytes(),
                            np.ascontiguousarray(cost.R, float).tobytes())
     JH_all, JG_all = jac.map(len(pts))(pts.T)
-    JH_all = np.asarray(JH_all).reshape(-1, len(pts), p, order="F")
-    JG_all = np.asarray(JG_all).reshape(-1, len(pts), p, order="F")
+    # the mapped Jacobians sit side by side, point after point: columns i p .. i p + p - 1 are point i's
+    JH_all = np.asarray(JH_all).reshape(-1, len(pts), p)
+    JG_all = np.asarray(JG_all).reshape(-1, len(pts), p)
     sH = np.array([np.linalg.norm(JH_all[:, i, :], 2) for i in range(len(pts))])
     sG = np.array([np.linalg.norm(JG_all[:, i, :], 2) for i in range(len(pts))])
     if not (np.all(np.isfinite(sH)) and np.all(np.isfinite(sG))):
