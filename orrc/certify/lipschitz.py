@@ -65,7 +65,7 @@ class Lipschitz:
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)
     >>> print(round(L.alpha_kappa, 3), L.alpha_c, L.estimate)
-    6.296 10.0 False
+    6.549 10.0 False
     """
 
     theta: np.ndarray
