@@ -5,14 +5,13 @@
   scratch vs orrc: ..." below 1e-8;
 * a main figure drawn by visible matplotlib code, numbered and captioned;
 * "Reading the paper critically" at the end of the main path, only exercises and references after;
-* in the HTML, every picture of a chapter is a numbered figure with a caption.
+* the map of the paper's results links every result to its chapter.
 
 The chapters are those of the teaching parts of ``_toc.yml`` (tools.toc.TEACHING_PARTS); the
 executed notebooks are the session's one book build (the ``book`` fixture).
 """
 from __future__ import annotations
 
-import re
 
 import nbformat
 import pytest
@@ -76,24 +75,6 @@ def test_reading_the_paper_critically_closes_the_main_path(chapter):
 
     problems = shape.critical_section_problems(jupytext.read(ROOT / f"{chapter}.md"))
     assert not problems, f"{chapter}: {problems}"
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("page", CHAPTERS + SUB_PAGES)
-def test_every_picture_is_a_numbered_captioned_figure(book, page):
-    from bs4 import BeautifulSoup
-
-    assert book["rc"] == 0, "the book build failed"
-    soup = BeautifulSoup((BOOK_HTML / f"{page}.html").read_text(encoding="utf-8"), "html.parser")
-    main = soup.find("main") or soup
-    bare = []
-    for img in main.find_all("img"):
-        figure = img.find_parent("figure")
-        caption = figure.find("figcaption") if figure else None
-        number = caption.find(class_="caption-number") if caption else None
-        if not (caption and number and re.search(r"\d", number.get_text())):
-            bare.append(img.get("alt") or img.get("src", "")[:40])
-    assert not bare, f"{page}: pictures without a number and a caption: {bare[:5]}"
 
 
 def test_the_map_links_every_result_to_its_chapter():

@@ -36,7 +36,7 @@ from tools.build_book import CACHE, ROOT, build, inputs_digest, is_quick, read_s
 from tools.solutions import FormatError, parse, strip_solutions
 from tools.toc import notebook_pages
 
-COPIED = ("_config.yml", "_toc.yml", "book", "tools")
+COPIED = ("_config.yml", "_toc.yml", "book", "tools", "benchmarks/results.json")  # the benchmarks page reads the last
 TITLE_SUFFIX = " (student edition)"
 #: pages for instructors only: not copied, not in the copy's table of contents, links to them unlinked
 INSTRUCTOR_PAGES = ("book/instructors",)
@@ -83,6 +83,7 @@ def stripped_copy(dest: Path, root: Path = ROOT) -> dict[str, int]:
         if src.is_dir():
             shutil.copytree(src, dest / name, ignore=shutil.ignore_patterns("__pycache__", "*.ipynb", ".ipynb_checkpoints"))
         else:
+            (dest / name).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, dest / name)
     for page in INSTRUCTOR_PAGES:
         (dest / f"{page}.md").unlink(missing_ok=True)

@@ -68,7 +68,7 @@ def _cell(text) -> str:
 
 
 def _list_table(head: list[str], rows: list[list[str]], widths: list[int] | None = None) -> list[str]:
-    out = [".. list-table::", "   :header-rows: 1"]
+    out = [".. list-table::", "   :header-rows: 1", "   :class: orrc-fit"]   # as wide as the column (CSS)
     if widths:
         out.append("   :widths: " + " ".join(map(str, widths)))
     out.append("")
