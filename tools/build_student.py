@@ -57,10 +57,16 @@ def for_students(text: str) -> str:
 
 
 def _without_instructor_pages(entries: list) -> list:
+    """The entries of a toc list without the instructor pages; a part or a chapter's sections left
+    empty are dropped (an empty list is malformed for Jupyter Book)."""
     out = []
     for e in entries:
-        if e.get("file") not in INSTRUCTOR_PAGES:
-            out.append({k: (_without_instructor_pages(v) if k in ("chapters", "sections") else v) for k, v in e.items()})
+        if e.get("file") in INSTRUCTOR_PAGES:
+            continue
+        kept = {k: (_without_instructor_pages(v) if k in ("chapters", "sections") else v) for k, v in e.items()}
+        kept = {k: v for k, v in kept.items() if not (k in ("chapters", "sections") and v == [])}
+        if "file" in kept or kept.get("chapters"):
+            out.append(kept)
     return out
 
 
