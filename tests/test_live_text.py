@@ -8,6 +8,7 @@
 """
 import warnings
 
+import numpy as np
 import pytest
 
 from orrc._validate import OrrcValueError
@@ -48,6 +49,25 @@ def test_quoting_a_key_never_glued_or_a_bad_format_names_the_problem():
         glued("test-live-b", ".1z")
     with pytest.raises(OrrcValueError, match="fmt must be a format"):
         glued("test-live-b", 2)
+
+
+@pytest.mark.parametrize("value", [3.25, np.float64(2.5), 7, "text", [1, 2]])
+def test_in_a_build_kernel_without_myst_nb_glue_writes_what_myst_nb_writes(value):
+    """The test build runs the chapters in the environment a download installs, which has no
+    myst-nb: there ``glue`` writes the output myst-nb's ``glue`` writes (the book reads it)."""
+    from IPython.core.interactiveshell import InteractiveShell
+    from IPython.utils.capture import capture_output
+    from myst_nb import glue as myst_glue
+
+    from orrc.viz.notebook import _record
+
+    InteractiveShell.instance()
+    with capture_output() as theirs:
+        myst_glue("test-live-r", value, display=False)
+    with capture_output() as ours:
+        _record("test-live-r", value)
+    assert [(o.data, o.metadata) for o in ours.outputs] == [(o.data, o.metadata) for o in theirs.outputs]
+    assert ours.outputs and all(k.startswith("application/papermill.record/") for k in ours.outputs[0].data)
 
 
 @pytest.mark.parametrize("expression, parsed", [
