@@ -40,7 +40,16 @@ TITLES = {
     "comparison": "The comparison chapter's table",
     "minmax": "The min-max problem of Algorithm 3",
     "widgets": "The explorers in a live kernel",
+    "scaling": "How a closed-loop step grows with the horizon and the state dimension",
+    "scaling_lq": "The exact linear-quadratic path as the state dimension grows",
 }
+
+#: the modules drawn as time per step against a size (log-log, one line per tool, its fitted exponent)
+SCALING = {"scaling", "scaling_lq"}
+_TOOL_LABELS = {"orrc": "orrc", "bare": "bare CasADi loop", "acados": "acados SQP", "acados_rti": "acados RTI",
+                "dompc": "do-mpc", "numpy": "numpy Riccati loop"}
+_TOOL_STYLE = {"orrc": ("#1f6fb4", "o", "-"), "bare": ("#555555", "s", "--"), "acados": ("#d9822b", "^", "-"),
+               "acados_rti": ("#d9822b", "v", ":"), "dompc": ("#2e8b57", "D", "-."), "numpy": ("#d9822b", "^", "-")}
 
 
 class BenchmarksError(ValueError):
@@ -92,6 +101,8 @@ def figure(module: str, rows: list[dict], width: float = 7.4):
     width as well as a laptop's); None when no row states a time."""
     from matplotlib.figure import Figure
 
+    if module in SCALING:
+        return scaling_figure(module, rows, width)
     timed = [r for r in rows if r.get("orrc_seconds")]
     if not timed:
         return None
@@ -119,6 +130,53 @@ def figure(module: str, rows: list[dict], width: float = 7.4):
     ax.set_title(textwrap.fill(TITLES.get(module, module), int(6.5 * width)))
     fig.set_layout_engine("constrained")
     fig.legend(loc="outside lower center", ncols=2, fontsize=9)
+    return fig
+
+
+def scaling_series(rows: list[dict]) -> dict:
+    """{grid: (size name, {tool: [(size, CPU seconds per step)]}, {tool: growth exponent})} from the rows of
+    ``benchmarks/scaling.py`` or ``benchmarks/scaling_lq.py`` (their ``data``)."""
+    out: dict = {}
+    for r in rows:
+        d = r.get("data") or {}
+        if "grid" not in d:
+            continue
+        name = "n" if (d["grid"] == "lq" or "n grows" in d["grid"]) else "M"
+        _, series, slopes = out.setdefault(d["grid"], (name, {}, {}))
+        if "exponents" in d:
+            slopes.update(d["exponents"])
+        elif "t_orrc" in d:
+            if d["size"] not in [s for s, _ in series.get("orrc", [])]:
+                series.setdefault("orrc", []).append((d["size"], d["t_orrc"]))
+            series.setdefault(d.get("tool", "numpy"), []).append((d["size"], d["t_peer"]))
+    return out
+
+
+def scaling_figure(module: str, rows: list[dict], width: float = 7.4):
+    """CPU time per closed-loop step against the size of each grid, log-log, a line per tool with its fitted
+    growth exponent in the legend; None when no row states a time."""
+    from matplotlib.figure import Figure
+
+    grids = scaling_series(rows)
+    if not grids:
+        return None
+    narrow = width < 5
+    cols = 1 if narrow else len(grids)
+    fig = Figure(figsize=(width, (3.6 if narrow else 4.2) * (len(grids) if narrow else 1) + 0.8))
+    axes = fig.subplots(len(grids) if narrow else 1, cols, squeeze=False).ravel()
+    for ax, (grid, (name, series, slopes)) in zip(axes, grids.items()):
+        for tool, pts in series.items():
+            pts = sorted(pts)
+            color, marker, line = _TOOL_STYLE.get(tool, ("#000000", "x", "-"))
+            slope = f", exponent {slopes[tool]:.2f}" if tool in slopes else ""
+            ax.loglog([p for p, _ in pts], [t for _, t in pts], marker=marker, linestyle=line, color=color,
+                      label=f"{_TOOL_LABELS.get(tool, tool)}{slope}")
+        ax.set_xlabel(f"{name} (log scale)")
+        ax.set_ylabel("CPU time per step (s), log scale")
+        ax.set_title(textwrap.fill(grid, 40), fontsize=10)
+        ax.legend(fontsize=8)
+    fig.suptitle(textwrap.fill(TITLES.get(module, module), int(6.5 * width)))
+    fig.set_layout_engine("constrained")
     return fig
 
 

@@ -70,6 +70,16 @@ from .plan import Plan, SolverWarning  # noqa: F401  (SolverWarning: importable 
 #: on the pendulum: about 1 ms per shooting interval of about 25 nodes
 _OPS_PER_NODE = 4e4
 
+def _stats(call: Buffered) -> dict:
+    """The solver's statistics of its last solve; where CasADi cannot produce them (``sqpmethod`` stopped by an
+    internal error leaves its status unset, and reading it raises), an unsuccessful solve saying so."""
+    try:
+        return call.stats()
+    except RuntimeError as exc:
+        return {"success": False, "iter_count": 0,
+                "return_status": f"error: the solver stopped without a status ({_last_line(exc)})"}
+
+
 class ShootingNLP(DropsBuffers):
     """Multiple-shooting transcription of the M-step problem, built once, with its solvers.
 
@@ -282,12 +292,12 @@ class ShootingNLP(DropsBuffers):
         if error:
             text = _last_line(error) if isinstance(error, Exception) else f"CasADi return code {error}"
             return Plan(inputs=guess_U.copy(), states=np.vstack([x, self._guess_states(x, guess_X)]), value=float("nan"),
-                        success=False, status=f"error: {text}", iterations=int(call.stats().get("iter_count", 0) or 0),
+                        success=False, status=f"error: {text}", iterations=int(_stats(call).get("iter_count", 0) or 0),
                         solve_time=elapsed, fallback="the initial guess (the solver raised an error)", solver=solver)
         if counter is not None and converged and call.counter_checks >= COUNTER_CHECKS:
             iterations, status, success = counter.value - before, SQP_SOLVED, True   # no statistics to read
         else:
-            stats = call.stats()
+            stats = _stats(call)
             iterations = int(stats.get("iter_count", 0) or 0)
             status = str(stats.get("return_status", "unknown"))
             success = bool(stats.get("success", False))
