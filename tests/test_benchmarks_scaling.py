@@ -9,7 +9,7 @@ import pytest
 
 import orrc
 
-from benchmarks import peer_models, run, scaling, scaling_lq
+from benchmarks import peer_models, run, scaling, scaling_lq, structure
 from benchmarks.common import CheckFailed
 from tools import sphinx_benchmarks as page
 
@@ -103,3 +103,18 @@ def test_the_page_draws_time_against_size_for_each_grid():
     lines = [ln for ax in fig.axes for ln in ax.get_lines()]
     assert len(fig.axes) == 2 and len(lines) == 4 and all(ax.get_xscale() == "log" for ax in fig.axes)
     assert any("exponent" in t.get_text() for ax in fig.axes for t in ax.get_legend().get_texts())
+
+
+def test_the_stage_ordered_problem_is_the_pendulums_and_hpipm_solves_it_as_qrqp_does():
+    rows = structure.run(**run.QUICK["structure"])
+    assert [r.data["M"] for r in rows] == [3, 4]
+    assert all(abs(r.data["gap"]) <= structure.SAME_RTOL and r.data["t_hpipm"] > 0 for r in rows)
+    # the stage-ordered transcription is the pendulum's M-step problem: its optimum is orrc's
+    ex = orrc.examples.inverted_pendulum()
+    M, x0 = 6, np.array([0.5, 0.0])
+    W = orrc.disturbances.uniform_ball(M, 2, radius=0.02, seed=2)
+    S, lb, ub = structure.stage_ordered_solver(M, "hpipm")
+    r = S(x0=np.tile([0.0, *x0], M), p=np.concatenate([x0, W.reshape(-1)]), lbx=lb, ubx=ub, lbg=0, ubg=0)
+    plan = orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds).plan(x0, W)
+    assert S.stats()["success"] and float(r["f"]) == pytest.approx(plan.value, rel=1e-8)
+    assert np.allclose(np.asarray(r["x"]).reshape(M, 3)[:, 0], plan.inputs[:, 0], rtol=0, atol=1e-6)

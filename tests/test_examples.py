@@ -130,3 +130,19 @@ def test_the_chain_is_controlled_to_rest_by_the_nonlinear_rhc():
     for _ in range(60):
         free = ex.system.step(free, [0.0], np.zeros(4))
     assert np.linalg.norm(traj.x[-1]) < 0.5 * np.linalg.norm(free), "control brings the chain to rest faster"
+
+
+def test_an_sqp_solve_that_stops_without_a_status_is_a_failed_solve_and_ipopt_takes_the_step():
+    # on the chain of 10 masses at M = 20, CasADi's SQP stops inside its convexification of the Hessian and
+    # leaves no status (reading its statistics raises): the solve is reported failed, not raised, and the
+    # controller's ladder solves the step by IPOPT
+    ex = exs.mass_chain(k=10)
+    M = 20
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds)
+    W, P = np.zeros((M, 20)), np.tile(ex.cost.default_params, (M, 1))
+    sqp = rhc._nlp.solve(ex.x0, W, P, solver="sqp")
+    assert sqp.success or "without a status" in sqp.status
+    plan = rhc.plan(ex.x0, W)
+    assert plan.success and np.isfinite(plan.value)
+    ip = rhc._nlp.solve(ex.x0, W, P, solver="ipopt")
+    assert plan.value == pytest.approx(ip.value, rel=1e-6)

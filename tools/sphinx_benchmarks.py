@@ -42,6 +42,7 @@ TITLES = {
     "widgets": "The explorers in a live kernel",
     "scaling": "How a closed-loop step grows with the horizon and the state dimension",
     "scaling_lq": "The exact linear-quadratic path as the state dimension grows",
+    "structure": "A structure-exploiting QP solver inside SQP",
 }
 
 #: the modules drawn as time per step against a size (log-log, one line per tool, its fitted exponent)
