@@ -105,16 +105,18 @@ def test_the_page_draws_time_against_size_for_each_grid():
     assert any("exponent" in t.get_text() for ax in fig.axes for t in ax.get_legend().get_texts())
 
 
-def test_the_stage_ordered_problem_is_the_pendulums_and_hpipm_solves_it_as_qrqp_does():
+def test_the_qp_solvers_give_the_same_closed_loop_and_a_different_one_is_caught(monkeypatch):
     rows = structure.run(**run.QUICK["structure"])
     assert [r.data["M"] for r in rows] == [3, 4]
     assert all(abs(r.data["gap"]) <= structure.SAME_RTOL and r.data["t_hpipm"] > 0 for r in rows)
-    # the stage-ordered transcription is the pendulum's M-step problem: its optimum is orrc's
-    ex = orrc.examples.inverted_pendulum()
-    M, x0 = 6, np.array([0.5, 0.0])
-    W = orrc.disturbances.uniform_ball(M, 2, radius=0.02, seed=2)
-    S, lb, ub = structure.stage_ordered_solver(M, "hpipm")
-    r = S(x0=np.tile([0.0, *x0], M), p=np.concatenate([x0, W.reshape(-1)]), lbx=lb, ubx=ub, lbg=0, ubg=0)
-    plan = orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds).plan(x0, W)
-    assert S.stats()["success"] and float(r["f"]) == pytest.approx(plan.value, rel=1e-8)
-    assert np.allclose(np.asarray(r["x"]).reshape(M, 3)[:, 0], plan.inputs[:, 0], rtol=0, atol=1e-6)
+    real = structure.closed_loops
+
+    def off(M, T, reps, solvers=("qrqp", "hpipm")):
+        out = real(M, T, reps, solvers)
+        traj, t = out["hpipm"]
+        traj.x[1:] += 1e-5
+        return out
+
+    monkeypatch.setattr(structure, "closed_loops", off)
+    with pytest.raises(CheckFailed, match="is not qrqp's"):
+        structure.run(**run.QUICK["structure"])
