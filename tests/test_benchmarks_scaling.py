@@ -120,3 +120,13 @@ def test_the_qp_solvers_give_the_same_closed_loop_and_a_different_one_is_caught(
     monkeypatch.setattr(structure, "closed_loops", off)
     with pytest.raises(CheckFailed, match="is not qrqp's"):
         structure.run(**run.QUICK["structure"])
+
+
+def test_the_page_lists_each_missed_target_with_its_ratio_and_what_was_measured():
+    rows = [{"case": "M=200: orrc vs acados SQP", "ratio": "1.30× acados", "target": "< 1× (CPU)", "ok": False,
+             "check": "orrc's steps by solver: sqp 100"},
+            {"case": "M=10: orrc vs acados SQP", "ratio": "0.50× acados", "target": "< 1× (CPU)", "ok": True}]
+    lines = page.missed(rows)
+    assert len([ln for ln in lines if ln.startswith("- ")]) == 1
+    assert "M=200" in lines[2] and "1.30×" in lines[2] and "sqp 100" in lines[2] and "M=10" not in "".join(lines)
+    assert page.missed(rows[1:]) == []

@@ -209,6 +209,15 @@ def _distinct(benchmark: str, all_benchmarks: list[str]) -> str:
     return benchmark[len(prefix):].strip(" ,()") or benchmark
 
 
+def missed(rows: list[dict]) -> list[str]:
+    """reStructuredText lines: a bullet per row whose target was missed, with its measured ratio, the target
+    and what the row measured beside it (its correctness check: the solvers each tool's steps took, the
+    iterations); nothing when every target was met."""
+    out = [f"- {_cell(r['case'])}: {_cell(r['ratio'])} (target {_cell(r['target'])}); {_cell(r.get('check', ''))}"
+           for r in rows if r.get("ok") is False]
+    return ["Targets missed, by how much, and what was measured beside them:", "", *out, ""] if out else []
+
+
 class OrrcBenchmarks(Directive):
     """``.. orrc-benchmarks:: [results file]``: the measured results of ``make bench``."""
 
@@ -252,6 +261,7 @@ class OrrcBenchmarks(Directive):
             judged = sum(r.get("ok") is not None for r in rows)
             rst += [f"{len(rows)} row(s); {met} of {judged} target(s) met." if judged else
                     f"{len(rows)} row(s), none with a target.", ""]
+            rst += missed(rows)
         rst += [".. rubric:: The whole table", ""]
         rst += _list_table(["benchmark", "case", "orrc (median)", "peer (median)", "ratio", "target", "met",
                             "correctness check"],
