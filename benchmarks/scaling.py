@@ -8,8 +8,9 @@ peer in its own virtual environment, every tool's closed loop checked against or
 * a chain of k masses with nonlinear springs (``orrc.examples.mass_chain(k)``, n = 2k, |u| <= 2, every
   mass displaced by 0.5, disturbance radius 0.01) for n in {2, 4, 8, 12, 24} at M = 50;
 
-each run by orrc (``orrc.simulate`` with ``PreviewRHC``'s default NLP path, compiled by ``orrc._jit``
-before the timed runs), the bare CasADi loop on the same NLP (``peers.BareCasadiLoop``: the floor of any
+each run by orrc (``orrc.simulate`` with ``PreviewRHC``'s default NLP path: SQP whose QP solver is qrqp,
+or HPIPM from the horizon ``orrc.solvers.nlp_solvers.HPIPM_FROM`` on, IPOPT where an SQP step fails; compiled
+by ``orrc._jit`` before the timed runs), the bare CasADi loop on the same NLP (``peers.BareCasadiLoop``: the floor of any
 Python code calling it), acados (SQP, Gauss-Newton Hessian, HPIPM with partial condensing; and its
 real-time iteration, one SQP iteration per step, which is a different controller: its closed loop is
 reported with its cost gap, not checked equal) and do-mpc (IPOPT). orrc's and the bare loop's runs are
