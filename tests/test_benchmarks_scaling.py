@@ -130,3 +130,14 @@ def test_the_page_lists_each_missed_target_with_its_ratio_and_what_was_measured(
     assert len([ln for ln in lines if ln.startswith("- ")]) == 1
     assert "M=200" in lines[2] and "1.30×" in lines[2] and "sqp 100" in lines[2] and "M=10" not in "".join(lines)
     assert page.missed(rows[1:]) == []
+
+
+def test_a_missed_scaling_target_shows_the_bare_loop_at_the_same_point():
+    data = dict(grid="chain", size=24, tool="acados", t_peer=2e-3)
+    rows = [{"case": "n=24: orrc vs acados SQP", "ratio": "4.00× acados", "target": "< 1× (CPU)", "ok": False,
+             "check": "", "data": data},
+            {"case": "n=24: orrc vs bare CasADi loop", "ratio": "1.05×", "ok": True, "peer": "7.6 ms",
+             "data": dict(grid="chain", size=24, tool="bare", t_peer=7.6e-3)}]
+    assert "bare CasADi loop on the same NLP at this point: 7.6 ms, 3.80× acados SQP" in page.missed(rows)[2]
+    rows[1]["data"] = dict(grid="chain", size=24, tool="bare", skipped="its SQP solve failed")
+    assert "the bare CasADi loop at this point: its SQP solve failed" in page.missed(rows)[2]

@@ -174,7 +174,7 @@ def scaling_figure(module: str, rows: list[dict], width: float = 7.4):
                       label=f"{_TOOL_LABELS.get(tool, tool)}{slope}")
         ax.set_xlabel(f"{name} (log scale)")
         ax.set_ylabel("CPU time per step (s), log scale")
-        ax.set_title(textwrap.fill(grid, 40), fontsize=10)
+        ax.set_title(textwrap.fill("exact LQ path, n grows" if grid == "lq" else grid, 40), fontsize=10)
         ax.legend(fontsize=8)
     fig.suptitle(textwrap.fill(TITLES.get(module, module), int(6.5 * width)))
     fig.set_layout_engine("constrained")
@@ -214,8 +214,25 @@ def missed(rows: list[dict]) -> list[str]:
     and what the row measured beside it (its correctness check: the solvers each tool's steps took, the
     iterations); nothing when every target was met."""
     out = [f"- {_cell(r['case'])}: {_cell(r['ratio'])} (target {_cell(r['target'])}); {_cell(r.get('check', ''))}"
-           for r in rows if r.get("ok") is False]
+           + _floor(r, rows) for r in rows if r.get("ok") is False]
     return ["Targets missed, by how much, and what was measured beside them:", "", *out, ""] if out else []
+
+
+def _floor(row: dict, rows: list[dict]) -> str:
+    """For a scaling row against a peer: the bare CasADi loop's time at the same point (the floor of any code
+    calling orrc's NLP), so that a reader sees whether the gap is orrc's own work or the NLP solver's."""
+    d = row.get("data") or {}
+    if "grid" not in d or d.get("tool") in (None, "bare"):
+        return ""
+    same = [r for r in rows if (r.get("data") or {}).get("grid") == d["grid"] and r["data"].get("size") == d["size"]
+            and r["data"].get("tool") == "bare"]
+    if not same:
+        return ""
+    bare = same[0]["data"]
+    if "t_peer" not in bare:
+        return f"; the bare CasADi loop at this point: {_cell(bare.get('skipped', 'not run'))}"
+    return (f"; the bare CasADi loop on the same NLP at this point: {_cell(same[0]['peer'])}, "
+            f"{bare['t_peer'] / d['t_peer']:.2f}× {_cell(row['case'].split(' vs ')[-1])}")
 
 
 class OrrcBenchmarks(Directive):

@@ -69,9 +69,11 @@ SQP_SOLVED = "Solve_Succeeded"
 _NEEDS_NLP_GRAD = ("calc_lam_p", "calc_lam_x", "calc_f", "calc_g")
 
 #: the horizon from which SQP's QP solver is HPIPM (a Riccati recursion: work linear in M) instead of qrqp
-#: (a general sparse QP solver), unless ``solver_options`` name one. Measured on orrc's closed loops
-#: (``benchmarks/structure.py``): on the pendulum both take the same time at M = 20, and HPIPM is 1.25x faster
-#: at M = 30, 1.9x at M = 50, 3x at M = 100, 5x at M = 200, with the same closed loop
+#: (a general sparse QP solver), unless ``solver_options`` name one. Measured on orrc's closed loop of the
+#: pendulum (``benchmarks/structure.py``): HPIPM is 1.5x slower at M = 10, 1.1x slower at M = 20, and 1.2x
+#: faster at M = 30, 1.35x at M = 50, 2.3x at M = 100, 4.8x at M = 200, with the same closed loop. Its
+#: interior-point multipliers are complementary to about 1e-9: where the optimal cost J is tiny (below about
+#: 0.1), an answer can fail the acceptance check (1e-8 |J|) and the step is solved again by the next rung
 HPIPM_FROM = 30
 #: HPIPM's options: quiet (its own stopping tolerances: SQP's answers pass the acceptance checks with them, and
 #: tighter ones cost many more of its iterations)
