@@ -304,8 +304,8 @@ class WarmSQP:
         """
         M, n, m, z = self.M, self.n, self.m, self.good
         states = np.empty((M + 1, n))
-        states[0], states[1:] = x, z[self.nu:].reshape(M, n)
-        return Plan(inputs=z[: self.nu].reshape(M, m).copy(), states=states, value=value, solver=SQP)
+        states[0], states[1:] = x, z[self.nlp.ix].reshape(M, n)
+        return Plan(inputs=z[self.nlp.iu].reshape(M, m).copy(), states=states, value=value, solver=SQP)
 
 
 def _count(iters, t: int, c: int) -> None:
