@@ -101,3 +101,24 @@ def test_the_download_shows_no_myst_markup(book, chapter):
     Colab would show raw)."""
     raw = raw_markup(nbformat.read(download(chapter), as_version=4))
     assert not raw, f"{chapter}: MyST markup left in the download's Markdown: {raw[:5]}"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_the_build_writes_the_text_of_every_citation_and_reference_for_make_lab(book, chapter):
+    """``make lab`` shows a chapter's citations, references and API names as the HTML does, from
+    ``<page>.roles.json`` of the build (tools/lab_contents.py): every such role of the chapter has
+    its text there, and no text is a bare key."""
+    import jupytext
+
+    from tools.download import CODE_BLOCK, LAB_ROLES, ROLE
+
+    texts = json.loads((BOOK_OUT / "_build" / "jupyter_execute" / f"{chapter}.roles.json").read_text(encoding="utf-8"))
+    nb = jupytext.read(ROOT / f"{chapter}.md")
+    markdown = CODE_BLOCK.sub("", "\n".join(c.source for c in nb.cells if c.cell_type == "markdown"))
+    roles = {m.group(0) for m in ROLE.finditer(markdown) if m.group("role") and LAB_ROLES.match(m.group("role"))}
+    assert roles == set(texts), f"{chapter}: roles without a text: {sorted(roles - set(texts))[:5]}"
+    # a citation or an untitled reference that reads as its own key or label was not resolved
+    bare = [r for r, t in texts.items() if not t.strip() or (
+        not r.startswith("{py:") and "<" not in r and t.strip("*` ") == r.split("`")[1])]
+    assert not bare, f"{chapter}: roles shown as their keys: {bare[:5]}"
