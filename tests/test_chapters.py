@@ -113,7 +113,7 @@ def jupyterlab_save(path):
         nb = jupytext.reads(text, fmt=fmt, config=config)
         as_after_run_all(nb)
         return jupytext.writes(nb, fmt=fmt, config=config)
-    assert NOT_SAVED == ("user_expressions",)
+    assert NOT_SAVED == ("user_expressions", "orrc_roles")
     with tempfile.TemporaryDirectory() as tmp:
         shutil.copy(path, Path(tmp) / Path(path).name)
         cm = ChapterContentsManager(root_dir=tmp)
