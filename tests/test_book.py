@@ -244,6 +244,60 @@ def test_interactive_figures_are_static_frames_in_the_html(book, page):
         assert 'class="orrc-frames"' in text, f"{page} calls explore() but shows no static frames"
 
 
+def uncaptioned_pictures(html_text: str) -> list[str]:
+    """The pictures of a page's text that are not a numbered figure with a caption: every image,
+    inline SVG and block of explorer frames (``div.orrc-frames``, counted once with its images)
+    whose nearest ``<figure>`` has no ``<figcaption>`` with a figure number and a caption text.
+    Left out: the icons of the page's widgets (the octicons of a dropdown) and the map of the
+    paper's results, a navigation aid in each chapter's "where this fits" dropdown (its text
+    alternative is its ``<title>``). Returns one short description per picture."""
+    from bs4 import BeautifulSoup
+
+    soup = BeautifulSoup(html_text, "html.parser")
+    article = soup.find("article", class_="bd-article")
+    assert article is not None, "no article element (the theme changed?)"
+    found = []
+    for el in article.find_all(["img", "svg"]) + article.find_all("div", class_="orrc-frames"):
+        if el.name != "div" and el.find_parent("div", class_="orrc-frames") is not None:
+            continue   # a frame of an explorer: the block of frames is the picture
+        if "sd-octicon" in (el.get("class") or []) or el.find_parent("figure", class_="orrc-map"):
+            continue
+        fig = el.find_parent("figure")
+        cap = fig.find("figcaption") if fig is not None else None
+        number = cap.find(class_="caption-number") if cap is not None else None
+        text = cap.find(class_="caption-text") if cap is not None else None
+        if number is None or text is None or not text.get_text(strip=True):
+            section = el.find_parent("section")
+            what = (el.get("alt") or (el.find("img") or {}).get("alt") or el.name)[:80] if el.name != "svg" else "svg"
+            found.append(f"{el.name}.{'.'.join(el.get('class') or [])} in #{section.get('id') if section else '?'}: {what}")
+    return found
+
+
+@pytest.mark.parametrize("page", NOTEBOOKS, ids=page_id)
+def test_every_picture_is_a_numbered_figure_with_a_caption(book, page):
+    """Every image, inline SVG and explorer (its static frames) of a chapter is a numbered figure
+    with a caption (myst-nb's ``mystnb: figure:`` cell metadata, or ``{glue:figure}``), so the
+    prose can refer to it and a reader knows what it shows."""
+    text = (HTML / f"{page}.html").read_text(encoding="utf-8")
+    bare = uncaptioned_pictures(text)
+    assert not bare, f"{page}: {len(bare)} pictures without a figure number and a caption: {bare[:4]}"
+
+
+def test_the_caption_check_sees_a_bare_picture():
+    """The check above finds a picture outside a figure, a figure without a caption, and an explorer
+    without one, and passes a numbered, captioned figure."""
+    page = """<article class="bd-article">
+      <section id="a"><figure id="fig-x"><img alt="a curve" src="x.png">
+        <figcaption><p><span class="caption-number">Fig. 1 </span><span class="caption-text">A curve.</span></p></figcaption>
+      </figure></section>
+      <section id="b"><img alt="bare" src="y.png"></section>
+      <section id="c"><figure><img alt="no caption" src="z.png"></figure></section>
+      <section id="d"><div class="orrc-frames"><img class="orrc-frame" alt="frame" src="f.png"></div></section>
+    </article>"""
+    bare = uncaptioned_pictures(page)
+    assert len(bare) == 3 and "#b" in bare[0] and "#c" in bare[1] and "div.orrc-frames in #d" in bare[2]
+
+
 @pytest.mark.parametrize("page", PAGES, ids=page_id)
 def test_pages_stay_light(book, page):
     size = (HTML / f"{page}.html").stat().st_size
