@@ -49,7 +49,8 @@ def metric_bars(rows, metric: str, title: str | None = None, log: bool | None = 
     >>> from orrc.comparison import compare
     >>> ex = orrc.examples.scalar_unstable()
     >>> w = orrc.disturbances.uniform_ball(12, 1, 1.0, seed=0)
-    >>> rows = compare(ex.system, ex.cost, {"LQR": orrc.LQR(ex.system, ex.cost)}, w, 10, 1.0)
+    >>> rows = compare(ex.system, ex.cost, {"LQR": orrc.LQR(ex.system, ex.cost)}, w,
+    ...                10, 1.0)
     >>> fig = metric_bars(rows, "cost")
     """
     from ..comparison import ComparisonRow
