@@ -29,8 +29,29 @@ __all__ = [
 
 
 def information_pattern(t: int, M_w: int, M_c: int, T: int) -> Figure:
-    """What a controller knows at step t (the information pattern of Eq. 2):
-    x_{1:t}, u_{1:t-1}, w_{1:t+M_w-1} and c_{1:t+M_c-1}, drawn on a time line 1..T."""
+    """What a controller knows at step t, the information pattern of Eq. (2): x_{1:t}, u_{1:t-1},
+    w_{1:t+M_w-1} and c_{1:t+M_c-1}, drawn as filled cells on a time line 1..T.
+
+    Parameters
+    ----------
+    t : the current step, 1 <= t <= T.
+    M_w : how many disturbances ahead the controller sees (its preview of w), >= 0.
+    M_c : how many stage costs ahead it sees, >= 0.
+    T : the length of the time line, >= 2.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel: a row of cells per kind of information (states, inputs, disturbances, costs),
+        filled where known at t, and a dotted line at t.
+
+    Examples
+    --------
+    >>> from orrc.viz import plots
+    >>> fig = plots.information_pattern(t=4, M_w=3, M_c=3, T=10)
+    >>> len(fig.axes), fig.axes[0].get_xlabel()
+    (1, 'time step')
+    """
     T = as_int("T", T, minimum=2)
     t = as_int("t", t, minimum=1)
     if t > T:
@@ -71,12 +92,36 @@ def _rect(x, y, w, h, face, edge, alpha):
 
 def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, off_scale=(),
                   stacked: bool = False) -> Figure:
-    """Two panels: one state coordinate x_t[state] against t, and the cumulative cost
-    Σ_{s<=t} c_s(x_s, u_s) against t.
+    """A closed loop at a glance: one state coordinate x_t[state] against t, and the cumulative cost
+    Σ_{s<=t} c_s(x_s, u_s) of Eq. (2) against t, one curve per trajectory.
 
-    ``off_scale``: labels of trajectories (e.g. an unstable open loop) that are drawn
-    but ignored when the axis limits are chosen, so they leave the picture instead of
-    flattening the others. ``stacked``: the panels one above the other (narrow: for phones).
+    Parameters
+    ----------
+    trajs : dict label -> :class:`orrc.Trajectory` (a label's colour follows
+        :func:`controller_color`).
+    state : the state coordinate drawn in the first panel.
+    state_label : the first panel's axis label (default ``state $x_t[state]$``).
+    off_scale : labels of trajectories (e.g. an unstable open loop) that are drawn but ignored
+        when the axis limits are chosen, so they leave the picture instead of flattening the others.
+    stacked : the panels one above the other (narrow: for phones) instead of side by side.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels: the state, and the cumulative cost with the legend below it.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.viz import plots
+    >>> ex = orrc.examples.scalar_unstable()
+    >>> w = orrc.disturbances.uniform_ball(20, 1, 0.5, seed=0)
+    >>> runs = {"LQR": orrc.simulate(ex.system, orrc.LQR(ex.system, ex.cost), ex.x0, w, T=20),
+    ...         "preview RHC": orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, M=5),
+    ...                                      ex.x0, w, T=20)}
+    >>> fig = plots.cost_overview(runs)
+    >>> [ax.get_xlabel() for ax in fig.axes[:2]]
+    ['time step $t$', 'time step $t$']
     """
     trajs = _trajs(trajs)
     first = next(iter(trajs.values()))
@@ -115,9 +160,33 @@ def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, o
 
 
 def running_regret(trajs: dict, gammas) -> Figure:
-    """R^p_t(γ) = Σ_{s<=t} c_s − γ Σ_{s<=t} ‖w_s‖² against t (Eq. 2, signed form), one
-    panel per trajectory and one curve per γ. Each panel's title gives the trajectory's
-    attenuation ratio Σ c_t / Σ ‖w_t‖²: the curves for γ above it end below zero."""
+    """The running attenuation regret R^p_t(γ) = Σ_{s<=t} c_s − γ Σ_{s<=t} ‖w_s‖² of Eq. (2) (signed
+    form) against t: one panel per trajectory, one curve per level γ.
+
+    Each panel's title gives the trajectory's attenuation ratio Σ c_t / Σ ‖w_t‖²: the curves for a
+    γ above it end below zero.
+
+    Parameters
+    ----------
+    trajs : dict label -> :class:`orrc.Trajectory`, one panel each.
+    gammas : the attenuation levels γ > 0, one curve each.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``len(trajs)`` panels side by side, sharing the time axis.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.viz import plots
+    >>> ex = orrc.examples.scalar_unstable()
+    >>> w = orrc.disturbances.uniform_ball(20, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.LQR(ex.system, ex.cost), ex.x0, w, T=20)
+    >>> fig = plots.running_regret({"LQR": traj}, gammas=[1.0, 10.0])
+    >>> len(fig.axes), len(fig.axes[0].get_lines())   # two curves and the zero line
+    (1, 3)
+    """
     trajs = _trajs(trajs)
     gammas = _gammas(gammas)
     fig, axes = _figure(1, len(trajs), height=3.3, sharex=True)
@@ -135,9 +204,30 @@ def running_regret(trajs: dict, gammas) -> Figure:
 
 
 def cost_vs_energy(energies, costs: dict, gammas=()) -> Figure:
-    """Total cost against disturbance energy Σ‖w_t‖² on log-log axes, one curve per
-    controller (``costs``: label -> totals, aligned with ``energies``), with the lines
-    cost = γ · energy for the listed ``gammas`` as reference."""
+    """Total cost Σ_t c_t against the disturbance energy Σ_t ‖w_t‖² on log-log axes (the two sides
+    of the attenuation inequality of Eq. 2), one curve per controller, with the lines
+    cost = γ · energy as reference.
+
+    Parameters
+    ----------
+    energies : (k,) the disturbance energies, > 0.
+    costs : dict label -> (k,) the controller's total costs, aligned with ``energies``.
+    gammas : levels γ whose lines cost = γ · energy are drawn dotted (none by default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel, logarithmic on both axes.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.viz import plots
+    >>> energy = np.array([1.0, 10.0, 100.0])
+    >>> fig = plots.cost_vs_energy(energy, {"LQR": 3 * energy}, gammas=[1.0, 10.0])
+    >>> fig.axes[0].get_xscale(), fig.axes[0].get_yscale()
+    ('log', 'log')
+    """
     energies = as_array("energies", energies, ndim=1)
     if np.any(energies <= 0):
         raise OrrcValueError("energies must be positive (log axis); got a value <= 0")
@@ -160,11 +250,31 @@ def cost_vs_energy(energies, costs: dict, gammas=()) -> Figure:
 
 
 def preview_gains(laws: dict, K_ref=None) -> Figure:
-    """The preview gains of the exact LQ law u_t = −K x_t − Σ_j L_j w_{t+j}: ‖L_j‖
-    (spectral norm) against j for each law (``laws``: label -> ``LQPreviewLaw`` or a
-    ``PreviewRHC`` on the LQ path), on a log scale. ``K_ref`` (optional): a reference
-    feedback gain (e.g. the infinite-horizon LQR gain) whose distance ‖K_M − K_ref‖ is
-    shown in a second panel."""
+    """The preview gains of the exact LQ law of Algorithm 1, u_t = −K x_t − Σ_j L_j w_{t+j}: the
+    spectral norm ‖L_j‖ against the preview index j for each law, on a log scale.
+
+    Parameters
+    ----------
+    laws : dict label -> ``LQPreviewLaw``, or a :class:`orrc.PreviewRHC` on the exact LQ path
+        (linear system, quadratic cost, no bounds).
+    K_ref : optional reference feedback gain (e.g. the infinite-horizon LQR gain); when given, a
+        second panel shows ‖K_M − K_ref‖ against each law's horizon M.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel, or two with ``K_ref``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.viz import plots
+    >>> ex = orrc.examples.scalar_unstable()
+    >>> laws = {f"M = {M}": orrc.PreviewRHC(ex.system, ex.cost, M=M) for M in (3, 6)}
+    >>> fig = plots.preview_gains(laws)
+    >>> fig.axes[0].get_xlabel()
+    'preview index $j$ (gain on $w_{t+j}$)'
+    """
     laws = _nonempty_dict("laws", laws, "LQPreviewLaw (or PreviewRHC)")
     items = []
     for label, law in laws.items():
@@ -197,15 +307,30 @@ def preview_gains(laws: dict, K_ref=None) -> Figure:
 
 
 def cost_vs_horizon(Ms, costs: dict, optimum: dict | None = None, baseline: dict | None = None) -> Figure:
-    """Total closed-loop cost of Algorithm 1 against the horizon M.
+    """Total closed-loop cost J_M of Algorithm 1 against the horizon M, and its relative excess
+    over the clairvoyant optimum J*.
 
-    ``costs``: label (e.g. a disturbance kind) -> totals for each M in ``Ms``;
-    ``optimum``: label -> the clairvoyant optimum J* of the same problem; ``baseline``:
-    label -> another controller's total (e.g. LQR). Left: the totals on a log scale
-    with J* dotted. Right (when ``optimum`` is given): the relative excess
-    (J_M − J*)/J* on a log scale, or a symmetric-log scale when some excess is <= 0
-    (a local NLP optimum as reference can make it negative), with the baseline's
-    excess dashed.
+    Parameters
+    ----------
+    Ms : the horizons M >= 1.
+    costs : dict label (e.g. a disturbance kind) -> the totals J_M, one per M in ``Ms``.
+    optimum : optional dict label -> the clairvoyant optimum J* of the same problem; adds a
+        second panel with the relative excess (J_M − J*)/J* on a log scale (a symmetric-log scale
+        when some excess is <= 0, e.g. against a local NLP optimum).
+    baseline : optional dict label -> another controller's total (e.g. LQR), its excess dashed.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The totals on a log scale with J* dotted; with ``optimum``, the excess beside them.
+
+    Examples
+    --------
+    >>> from orrc.viz import plots
+    >>> fig = plots.cost_vs_horizon([1, 2, 4], {"i.i.d.": [3.0, 2.2, 2.05]},
+    ...                             optimum={"i.i.d.": 2.0}, baseline={"i.i.d.": 2.5})
+    >>> len(fig.axes), fig.axes[1].get_yscale()
+    (2, 'log')
     """
     Ms = [as_int("M", m, minimum=1) for m in Ms]
     costs = _nonempty_dict("costs", costs, "totals per M")
@@ -243,9 +368,31 @@ def cost_vs_horizon(Ms, costs: dict, optimum: dict | None = None, baseline: dict
 
 
 def disturbance_panel(ws: dict, scales=None, T: int | None = None) -> Figure:
-    """The disturbance sequences side by side: the first coordinate w_t[0] and ‖w_t‖
-    for each kind (``ws``: label -> (L, n) array), and, when given, the cost scales
-    s_t of a time-varying cost c_t = s_t xᵀQx + uᵀRu. ``T`` cuts the plots at T steps."""
+    """The disturbance sequences w_t of Eq. (1) side by side: the first coordinate w_t[0] and the
+    norm ‖w_t‖ for each kind, and, when given, the scales s_t of a time-varying cost
+    c_t = s_t xᵀQx + uᵀRu.
+
+    Parameters
+    ----------
+    ws : dict label -> (L, n) disturbance array, one panel each.
+    scales : optional (L,) cost scales s_t, drawn in a last panel on a log scale.
+    T : optional number of steps to draw (all by default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``len(ws)`` panels, one more with ``scales``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.viz import plots
+    >>> ws = {"i.i.d.": orrc.disturbances.uniform_ball(30, 1, 1.0, seed=0),
+    ...       "sinusoid": orrc.disturbances.sinusoid(30, 1, amplitude=1.0, period=10)}
+    >>> fig = plots.disturbance_panel(ws, T=20)
+    >>> [ax.get_title() for ax in fig.axes]
+    ['i.i.d.', 'sinusoid']
+    """
     ws = _nonempty_dict("ws", ws, "(L, n) disturbance array")
     k = len(ws) + (scales is not None)
     fig, axes = _figure(1, k, width=3.0 * k + 0.5, height=2.6)
@@ -271,11 +418,38 @@ def disturbance_panel(ws: dict, scales=None, T: int | None = None) -> Figure:
 
 def rhc_frame(traj, reference, gamma: float, state_labels=("$x_t[0]$",), input_bounds=None,
               title: str | None = None, ylim_R=None) -> Figure:
-    """One frame of the M-and-γ explorer: the first state and the input of ``traj``
-    against the clairvoyant ``reference`` (dashed), and the running R^p_t(γ) of both.
+    """One frame of the horizon-and-level explorer of Algorithm 1: the first state and the input of
+    a run against the clairvoyant reference (dashed), and the running regret R^p_t(γ) of Eq. (2)
+    of both.
 
-    ``input_bounds``: (lo, hi) drawn as grey lines on the input panel; ``ylim_R``:
-    fixed limits of the R panel, so frames for different M, γ compare at a glance.
+    Parameters
+    ----------
+    traj : the :class:`orrc.Trajectory` of the controller (e.g. preview RHC).
+    reference : the clairvoyant run on the same disturbances, drawn dashed.
+    gamma : the attenuation level γ >= 0 of the regret panel.
+    state_labels : the axis label of the state panel (its first entry).
+    input_bounds : optional (lo, hi), drawn as dotted grey lines on the input panel.
+    title : optional title above the panels.
+    ylim_R : optional fixed limits of the regret panel, so frames for different M and γ compare
+        at a glance.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three panels: the state, the input, and R^p_t(γ).
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.viz import plots
+    >>> ex = orrc.examples.scalar_unstable()
+    >>> w = orrc.disturbances.uniform_ball(25, 1, 0.5, seed=0)
+    >>> rhc = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, M=5), ex.x0, w, T=20)
+    >>> best = orrc.simulate(ex.system, orrc.Clairvoyant(ex.system, ex.cost, T=20), ex.x0, w,
+    ...                      T=20)
+    >>> fig = plots.rhc_frame(rhc, best, gamma=10.0, title="M = 5")
+    >>> len(fig.axes), fig.axes[1].get_ylabel()
+    (3, 'input $u_t$')
     """
     trajs = _trajs({"traj": traj, "reference": reference})
     traj, reference = trajs["traj"], trajs["reference"]
@@ -309,12 +483,34 @@ def rhc_frame(traj, reference, gamma: float, state_labels=("$x_t[0]$",), input_b
 
 
 def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
-    """How the solver's effort is distributed over the steps of a run, per label (e.g. warm
-    and cold starts): ``iterations`` (label -> (T,) integer counts) as the share of steps
-    that took 1, 2, 3, ... iterations (bars side by side, integer axis); when given,
-    ``solve_times`` (label -> (T,) seconds) as the empirical distribution of the time per
-    step in milliseconds (log axis), its median marked by a dashed line. Distributions
-    rather than means: one slow step (a busy machine) moves a mean, not a median."""
+    """How the solver's effort in Algorithm 1's receding-horizon steps is distributed over a run,
+    per label (e.g. warm and cold starts): the share of the steps that took 1, 2, 3, ...
+    iterations, and, when given, the distribution of the time per step with its median.
+
+    Distributions rather than means: one slow step (a busy machine) moves a mean, not a median.
+
+    Parameters
+    ----------
+    iterations : dict label -> (T,) integer iteration counts, one per step.
+    solve_times : optional dict label -> (T,) solve times in seconds, drawn as the empirical
+        distribution of the milliseconds per step (a log axis when they are positive), the median
+        dashed.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel of bars side by side, two with ``solve_times``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.viz import plots
+    >>> its = {"warm start": np.array([3, 1, 1, 2, 1]), "cold start": np.array([5, 4, 4, 5, 4])}
+    >>> times = {k: 1e-3 * v for k, v in its.items()}
+    >>> fig = plots.solver_effort(its, times)
+    >>> fig.axes[1].get_xlabel()
+    'solve time per step [ms]'
+    """
     from matplotlib.ticker import MaxNLocator
 
     iterations = _nonempty_dict("iterations", iterations, "per-step iteration counts")
