@@ -165,9 +165,12 @@ def running_cost(trajs: dict, title: str | None = None, fast: bool = False) -> F
     >>> from orrc.viz import comparison_plots
     >>> ex = orrc.examples.scalar_unstable()
     >>> w = orrc.disturbances.uniform_ball(20, 1, 1.0, seed=0)
-    >>> runs = {"LQR": orrc.simulate(ex.system, orrc.LQR(ex.system, ex.cost), ex.x0, w, T=20),
-    ...         "clairvoyant optimum": orrc.simulate(
-    ...             ex.system, orrc.Clairvoyant(ex.system, ex.cost, T=20), ex.x0, w, T=20)}
+    >>> runs = {"LQR": orrc.simulate(ex.system, orrc.LQR(ex.system, ex.cost), ex.x0, w,
+    ...                              T=20),
+    ...         "clairvoyant optimum": orrc.simulate(ex.system,
+    ...                                              orrc.Clairvoyant(ex.system, ex.cost,
+    ...                                                               T=20), ex.x0,
+    ...                                              w, T=20)}
     >>> fig = comparison_plots.running_cost(runs, title="i.i.d.")
     >>> [line.get_linestyle() for line in fig.axes[0].get_lines()]
     ['-', '--']

@@ -140,7 +140,8 @@ def horizon_threshold(Ms, alpha_hi, alpha_lo, M_star: int | None = None) -> Figu
     Examples
     --------
     >>> from orrc.viz import theory_plots
-    >>> fig = theory_plots.horizon_threshold([2, 4, 8, 16], [3.0, 2.6, 2.4, 2.3], 1.0, M_star=8)
+    >>> fig = theory_plots.horizon_threshold([2, 4, 8, 16], [3.0, 2.6, 2.4, 2.3],
+    ...                                      1.0, M_star=8)
     >>> fig.axes[0].get_xlabel()
     'horizon $M$'
     """
@@ -226,7 +227,8 @@ def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool 
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
     >>> from orrc.viz import theory_plots
     >>> lemma1 = checks.lemma1_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar)
     >>> bound = checks.value_bound_margins(traj, 8, k.alpha_hi, k.gamma_bar)

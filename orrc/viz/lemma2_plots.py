@@ -174,7 +174,8 @@ def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
     >>> from orrc import theory
     >>> from orrc.viz import theory_plots
     >>> coef = theory.lemma2_coefficients(8, 8, k.a, k.alpha_hi, k.gamma_bar, k.b)

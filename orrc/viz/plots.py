@@ -116,8 +116,10 @@ def cost_overview(trajs: dict, state: int = 0, state_label: str | None = None, o
     >>> from orrc.viz import plots
     >>> ex = orrc.examples.scalar_unstable()
     >>> w = orrc.disturbances.uniform_ball(20, 1, 0.5, seed=0)
-    >>> runs = {"LQR": orrc.simulate(ex.system, orrc.LQR(ex.system, ex.cost), ex.x0, w, T=20),
-    ...         "preview RHC": orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, M=5),
+    >>> runs = {"LQR": orrc.simulate(ex.system, orrc.LQR(ex.system, ex.cost), ex.x0, w,
+    ...                              T=20),
+    ...         "preview RHC": orrc.simulate(ex.system,
+    ...                                      orrc.PreviewRHC(ex.system, ex.cost, M=5),
     ...                                      ex.x0, w, T=20)}
     >>> fig = plots.cost_overview(runs)
     >>> [ax.get_xlabel() for ax in fig.axes[:2]]
@@ -444,9 +446,10 @@ def rhc_frame(traj, reference, gamma: float, state_labels=("$x_t[0]$",), input_b
     >>> from orrc.viz import plots
     >>> ex = orrc.examples.scalar_unstable()
     >>> w = orrc.disturbances.uniform_ball(25, 1, 0.5, seed=0)
-    >>> rhc = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, M=5), ex.x0, w, T=20)
-    >>> best = orrc.simulate(ex.system, orrc.Clairvoyant(ex.system, ex.cost, T=20), ex.x0, w,
-    ...                      T=20)
+    >>> rhc = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, M=5), ex.x0,
+    ...                     w, T=20)
+    >>> best = orrc.simulate(ex.system, orrc.Clairvoyant(ex.system, ex.cost, T=20),
+    ...                      ex.x0, w, T=20)
     >>> fig = plots.rhc_frame(rhc, best, gamma=10.0, title="M = 5")
     >>> len(fig.axes), fig.axes[1].get_ylabel()
     (3, 'input $u_t$')
@@ -505,7 +508,8 @@ def solver_effort(iterations: dict, solve_times: dict | None = None) -> Figure:
     --------
     >>> import numpy as np
     >>> from orrc.viz import plots
-    >>> its = {"warm start": np.array([3, 1, 1, 2, 1]), "cold start": np.array([5, 4, 4, 5, 4])}
+    >>> its = {"warm start": np.array([3, 1, 1, 2, 1]),
+    ...        "cold start": np.array([5, 4, 4, 5, 4])}
     >>> times = {k: 1e-3 * v for k, v in its.items()}
     >>> fig = plots.solver_effort(its, times)
     >>> fig.axes[1].get_xlabel()

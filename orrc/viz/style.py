@@ -39,8 +39,10 @@ def controller_color(label: str, index: int = 0) -> str:
     Examples
     --------
     >>> from orrc.viz.plots import controller_color
-    >>> controller_color("LQR"), controller_color("preview RHC, M = 10"), controller_color("mine", 1)
-    ('tab:orange', 'tab:blue', 'tab:green')
+    >>> [controller_color(label) for label in ("LQR", "preview RHC, M = 10")]
+    ['tab:orange', 'tab:blue']
+    >>> controller_color("mine", 1)
+    'tab:green'
     """
     low = str(label).lower()
     for key, colour in _NAMED.items():

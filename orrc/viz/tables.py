@@ -182,7 +182,8 @@ def margins_table(margins: dict, digits: int = 4):
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
     >>> m = checks.value_bound_margins(traj, 8, k.alpha_hi, k.gamma_bar)
     >>> t = margins_table({"value bound": m})
     >>> t.rows[0][:3]
