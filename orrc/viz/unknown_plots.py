@@ -96,10 +96,33 @@ def _vector(name: str, v, length: int | None = None) -> np.ndarray:
 
 def estimation_errors(Ns, errors: dict, floor: float = 1e-15, fit_from: float | None = None,
                       title: str | None = None) -> Figure:
-    """g(N) = ‖θ̂ - θ‖ against N (log-log). ``errors``: label -> (k,) errors or (S, k) per seed (averaged).
+    """The estimation error g(N) = ‖θ̂ − θ‖ of Algorithm 2's first phase against the number N of
+    exciting steps, on log-log axes, one curve per label.
 
-    Values below ``floor`` (exact up to rounding) are drawn at the floor. Each curve whose errors all
-    exceed 1e3·floor gets its log-log slope in the legend, fitted over N >= ``fit_from`` (default: all N).
+    Values below ``floor`` (exact up to rounding) are drawn at the floor. Each curve whose errors
+    all exceed 1e3·floor gets its log-log slope in the legend.
+
+    Parameters
+    ----------
+    Ns : (k,) the numbers of exciting steps N.
+    errors : dict label -> (k,) errors, or (S, k) errors per seed (averaged over the seeds).
+    floor : the smallest error drawn, > 0.
+    fit_from : the smallest N the slope is fitted over (default: all N).
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.viz import unknown_plots
+    >>> Ns = np.array([10, 20, 40, 80])
+    >>> fig = unknown_plots.estimation_errors(Ns, {"not given w": 1 / np.sqrt(Ns)})
+    >>> fig.axes[0].get_legend().get_texts()[0].get_text()
+    'not given w (slope -0.50)'
     """
     Ns = as_array("Ns", Ns, ndim=1)
     errors = _dict("errors", errors)
@@ -121,8 +144,30 @@ def estimation_errors(Ns, errors: dict, floor: float = 1e-15, fit_from: float | 
 
 def prediction_errors(Ns, errors: dict, references: dict | None = None, horizon: int = 20,
                       title: str | None = None) -> Figure:
-    """The h-step prediction error on fresh data against N (log-log), with horizontal reference levels
-    (``references``: label -> a number, e.g. the linearisation's error)."""
+    """The h-step prediction error of a learned model on fresh data against the number N of training
+    transitions, on log-log axes, with horizontal reference levels (e.g. the linearisation's error).
+
+    Parameters
+    ----------
+    Ns : (k,) the numbers of training transitions.
+    errors : dict label -> (k,) prediction errors, one curve each.
+    references : optional dict label -> a number, drawn as a horizontal line.
+    horizon : the prediction horizon h, named on the axis.
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> from orrc.viz import unknown_plots
+    >>> fig = unknown_plots.prediction_errors([50, 100, 200], {"EDMD": [0.3, 0.1, 0.05]},
+    ...                                       references={"linearisation": 0.4}, horizon=10)
+    >>> fig.axes[0].get_ylabel()
+    '10-step error'
+    """
     Ns = as_array("Ns", Ns, ndim=1)
     errors = _dict("errors", errors)
     fig, (ax,) = _fig()
@@ -140,9 +185,39 @@ def _shade(ax, N: int) -> None:
 
 def phase_frame(traj, reference, state: int = 0, title: str | None = None, fast: bool = False,
                 label: str = "Algorithm 2") -> Figure:
-    """A closed loop (``traj``) against ``reference`` (Algorithm 1 on the true system, same disturbances):
-    top, the state coordinate ``state``; bottom, Σ_{s<=t} (c_s - c_s^ref). The estimation phase of a
-    trajectory of Algorithm 2 (its ``info['N']`` steps) is shaded."""
+    """A closed loop of Algorithm 2 against Algorithm 1 with the true model on the same
+    disturbances: first, one state coordinate; second, the accumulated excess cost
+    Σ_{s<=t} (c_s − c_s^ref). The estimation phase (the trajectory's ``info['N']`` steps) is
+    shaded.
+
+    Parameters
+    ----------
+    traj : the :class:`orrc.Trajectory` of the controller (e.g. Algorithm 2).
+    reference : the :class:`orrc.Trajectory` of the reference (Algorithm 1 on the true system).
+    state : the state coordinate drawn.
+    title : optional title above the panels.
+    fast : fixed margins instead of the constrained layout (for explorer frames).
+    label : the legend's label of ``traj``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> alg2 = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
+    ...                                 theta_true=[1.2, 1.0])
+    >>> traj = orrc.simulate(ex.system, alg2, ex.x0, w, 50)
+    >>> alg1 = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> from orrc.viz import unknown_plots
+    >>> fig = unknown_plots.phase_frame(traj, alg1, title="N = 5")
+    >>> len(fig.axes)
+    2
+    """
     from ..simulate import Trajectory
 
     for name, t in (("traj", traj), ("reference", reference)):
@@ -171,8 +246,31 @@ def phase_frame(traj, reference, state: int = 0, title: str | None = None, fast:
 
 
 def lipschitz_quotients(dtheta, dV, dkappa, alpha_V: float, alpha_kappa: float, title: str | None = None) -> Figure:
-    """Lemma 3 on samples: |V(θ̂) - V(θ)| and ‖κ(θ̂) - κ(θ)‖ against ‖θ̂ - θ‖ (log-log), under the lines
-    α_V ‖θ̂ - θ‖ and α_κ ‖θ̂ - θ‖."""
+    """Lemma 3 on samples: the changes |V(θ̂) − V(θ)| of the value and ‖κ(θ̂) − κ(θ)‖ of the first
+    input against ‖θ̂ − θ‖, on log-log axes, under the lines α_V ‖θ̂ − θ‖ and α_κ ‖θ̂ − θ‖.
+
+    Parameters
+    ----------
+    dtheta : (k,) the parameter errors ‖θ̂ − θ‖ of the samples, > 0.
+    dV : (k,) the changes of the value.
+    dkappa : (k,) the changes of the first input.
+    alpha_V, alpha_kappa : Lemma 3's constants α_V and α_κ.
+    title : optional title above the panels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels: the value and the input.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.viz import unknown_plots
+    >>> d = np.array([0.01, 0.03, 0.1])
+    >>> fig = unknown_plots.lipschitz_quotients(d, 0.5 * d, 0.8 * d, alpha_V=1.0, alpha_kappa=2.0)
+    >>> len(fig.axes)
+    2
+    """
     d = as_array("dtheta", dtheta, ndim=1)
     dV = as_array("dV", dV, (d.size,))
     dk = as_array("dkappa", dkappa, (d.size,))
@@ -189,8 +287,43 @@ def lipschitz_quotients(dtheta, dV, dkappa, alpha_V: float, alpha_kappa: float, 
 
 
 def lemma4_terms(margins, theta_part: float, title: str | None = None) -> Figure:
-    """Lemma 4 along the control phase: the increments V^{t+1}(θ̂) - V^t(θ̂) under the bound, and the bound
-    without its θ-term (Lemma 1's part); ``theta_part`` = Γ^θ_V ‖θ̂ - θ‖. Symmetric log axis."""
+    """Lemma 4 along the control phase of Algorithm 2: the increments V^{t+1}(θ̂) − V^t(θ̂) of the
+    value on the estimated model under Lemma 4's bound, and the same bound without its θ-term
+    Γ^θ_V ‖θ̂ − θ‖ (Lemma 1's part), on a symmetric log axis.
+
+    Parameters
+    ----------
+    margins : the margins of :func:`orrc.checks.lemma4_margins`.
+    theta_part : the θ-term Γ^θ_V ‖θ̂ − θ‖ of the bound (:func:`orrc.theory.Gamma_V_theta`
+        times the error).
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> alg2 = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
+    ...                                 theta_true=[1.2, 1.0])
+    >>> traj = orrc.simulate(ex.system, alg2, ex.x0, w, 50)
+    >>> from orrc import certify, checks, theory
+    >>> from orrc.viz import unknown_plots
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
+    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)
+    >>> at = theory.alpha_f_tilde(L.alpha_f_S, 8)
+    >>> m = checks.lemma4_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar, L.alpha_V,
+    ...                           L.alpha_kappa, L.alpha_c, at)
+    >>> G = theory.Gamma_V_theta(8, k.alpha_lo, k.alpha_hi, L.alpha_V, L.alpha_kappa, L.alpha_c,
+    ...                          at)
+    >>> fig = unknown_plots.lemma4_terms(m, G * traj.info["theta_error"])
+    >>> fig.axes[0].get_yscale()
+    'symlog'
+    """
     from ..checks import Margins
 
     if not isinstance(margins, Margins):
@@ -208,8 +341,30 @@ def lemma4_terms(margins, theta_part: float, title: str | None = None) -> Figure
 
 
 def loss_vs_error(errors, losses: dict, title: str | None = None) -> Figure:
-    """The mean per-step excess cost of a wrong model against ‖θ̂ - θ‖ (log-log); ``losses``: label -> (k,)
-    (e.g. one per cost), each with its fitted slope (1: first order, 2: second order)."""
+    """The mean excess cost per step of Algorithm 1 planning with a wrong model against the model
+    error ‖θ̂ − θ‖, on log-log axes, each curve with its fitted slope (1: first order, as Lemma 4
+    charges it; 2: second order).
+
+    Parameters
+    ----------
+    errors : (k,) the model errors ‖θ̂ − θ‖, > 0.
+    losses : dict label -> (k,) mean excess costs per step (e.g. one per stage cost).
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.viz import unknown_plots
+    >>> e = np.array([0.01, 0.03, 0.1, 0.3])
+    >>> fig = unknown_plots.loss_vs_error(e, {"quadratic": 2 * e ** 2, "Lipschitz": 0.5 * e})
+    >>> [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    ['quadratic: slope 2.00', 'Lipschitz: slope 1.00']
+    """
     e = as_array("errors", errors, ndim=1)
     losses = _dict("losses", losses)
     fig, (ax,) = _fig(1, 4.2)   # the legend below the axes
@@ -223,8 +378,31 @@ def loss_vs_error(errors, losses: dict, title: str | None = None) -> Figure:
 
 
 def theorem2_parts(Ts, parts: dict, actual, title: str | None = None) -> Figure:
-    """Theorem 2's bound split into its parts (``parts``: label -> (k,) against ``Ts``) and the actual
-    R^p_T(γ) (symmetric log axis)."""
+    """Theorem 2's bound on R^p_T(γ) split into its parts (estimation, known system, model error),
+    their sum, and the actual R^p_T(γ), against T on a symmetric log axis.
+
+    Parameters
+    ----------
+    Ts : (k,) the lengths T.
+    parts : dict label -> (k,) one part of the bound against ``Ts``.
+    actual : (k,) the measured R^p_T(γ).
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.viz import unknown_plots
+    >>> T = np.arange(10, 60, 10)
+    >>> parts = {"estimation (O(N))": np.full(5, 40.0), "model error": 0.5 * T}
+    >>> fig = unknown_plots.theorem2_parts(T, parts, actual=0.1 * T)
+    >>> fig.axes[0].get_xlabel()
+    'T'
+    """
     Ts = as_array("Ts", Ts, ndim=1)
     parts = _dict("parts", parts)
     actual = as_array("actual", actual, (Ts.size,))
@@ -242,8 +420,30 @@ def theorem2_parts(Ts, parts: dict, actual, title: str | None = None) -> Figure:
 
 
 def excess_vs_T(curves: dict, T: int | None = None, title: str | None = None, fast: bool = False) -> Figure:
-    """The cost of not knowing θ, Σ_{t<T} (c_t - c_t^known), against T for several runs (``curves``: label ->
-    (L,) cumulative excess); ``T`` crops the time axis."""
+    """The cost of not knowing θ, Σ_{t<T} (c_t − c_t^known), against T for several runs (e.g. one
+    per estimation length N of Algorithm 2).
+
+    Parameters
+    ----------
+    curves : dict label -> (L,) cumulative excess cost.
+    T : optional last T drawn (the whole curves by default).
+    title : optional title.
+    fast : fixed margins instead of the constrained layout (for explorer frames).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.viz import unknown_plots
+    >>> t = np.arange(100)
+    >>> fig = unknown_plots.excess_vs_T({"N = 10": 0.5 * t, "N = 40": 10 + 0.1 * t}, T=80)
+    >>> len(fig.axes[0].get_lines()) >= 2
+    True
+    """
     curves = _dict("curves", curves)
     fig, (ax,) = _fig(1, 3.6, fast)
     for i, (label, y) in enumerate(curves.items()):
@@ -255,8 +455,34 @@ def excess_vs_T(curves: dict, T: int | None = None, title: str | None = None, fa
 
 
 def tradeoff_curves(tradeoff, Ts, title: str | None = None) -> Figure:
-    """The trade-off Δ(N, T) against N (log-log) for each T of ``Ts``: measured seed means (dots), the
-    fitted curve (line) and its minimiser (star); the raw minimiser is the lowest dot."""
+    """The exploration trade-off Δ(N, T) of Theorem 2 against the estimation length N, on log-log
+    axes, for each T: the measured seed means (dots), the fitted curve (line) and its minimiser
+    (star); the raw minimiser is the lowest dot.
+
+    Parameters
+    ----------
+    tradeoff : the :class:`orrc.tradeoff.Tradeoff` of :func:`orrc.tradeoff.exploration_tradeoff`.
+    Ts : the lengths T, one curve each.
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import tradeoff
+    >>> from orrc.viz import unknown_plots
+    >>> di = orrc.examples.double_integrator()
+    >>> study = tradeoff.exploration_tradeoff(di.system, orrc.ParametricSystem.linear(2, 1),
+    ...                                       di.cost, M=5, Ns=[3, 6, 12], seeds=2, window=30,
+    ...                                       backend="serial")
+    >>> fig = unknown_plots.tradeoff_curves(study, [100, 1000])
+    >>> fig.axes[0].get_xscale(), fig.axes[0].get_yscale()
+    ('log', 'log')
+    """
     from ..tradeoff import Tradeoff
 
     if not isinstance(tradeoff, Tradeoff):
@@ -275,8 +501,34 @@ def tradeoff_curves(tradeoff, Ts, title: str | None = None) -> Figure:
 
 
 def best_N(tradeoff, Ts, title: str | None = None) -> Figure:
-    """The best N against T (log-log): the fitted curve's minimisers with their fitted slope, the raw
-    minimisers over the grid of N, and a line of slope 2/3 through the first point."""
+    """The best estimation length N against T, on log-log axes: the fitted curve's minimisers with
+    their fitted slope, the raw minimisers over the grid of N, and a line of the slope 2/3 of the
+    remark after Theorem 2 through the first point.
+
+    Parameters
+    ----------
+    tradeoff : the :class:`orrc.tradeoff.Tradeoff` of :func:`orrc.tradeoff.exploration_tradeoff`.
+    Ts : the lengths T.
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import tradeoff
+    >>> from orrc.viz import unknown_plots
+    >>> di = orrc.examples.double_integrator()
+    >>> study = tradeoff.exploration_tradeoff(di.system, orrc.ParametricSystem.linear(2, 1),
+    ...                                       di.cost, M=5, Ns=[3, 6, 12], seeds=2, window=30,
+    ...                                       backend="serial")
+    >>> fig = unknown_plots.best_N(study, [100, 300, 1000])
+    >>> fig.axes[0].get_xlabel()
+    'T'
+    """
     from ..tradeoff import Tradeoff
 
     if not isinstance(tradeoff, Tradeoff):
