@@ -209,10 +209,11 @@ def phase_frame(traj, reference, state: int = 0, title: str | None = None, fast:
     >>> import orrc
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> alg2 = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
-    ...                                 theta_true=[1.2, 1.0])
+    >>> alg2 = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8,
+    ...                                 N=5, theta_true=[1.2, 1.0])
     >>> traj = orrc.simulate(ex.system, alg2, ex.x0, w, 50)
-    >>> alg1 = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> alg1 = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
     >>> from orrc.viz import unknown_plots
     >>> fig = unknown_plots.phase_frame(traj, alg1, title="N = 5")
     >>> len(fig.axes)
@@ -267,7 +268,8 @@ def lipschitz_quotients(dtheta, dV, dkappa, alpha_V: float, alpha_kappa: float, 
     >>> import numpy as np
     >>> from orrc.viz import unknown_plots
     >>> d = np.array([0.01, 0.03, 0.1])
-    >>> fig = unknown_plots.lipschitz_quotients(d, 0.5 * d, 0.8 * d, alpha_V=1.0, alpha_kappa=2.0)
+    >>> fig = unknown_plots.lipschitz_quotients(d, 0.5 * d, 0.8 * d, alpha_V=1.0,
+    ...                                         alpha_kappa=2.0)
     >>> len(fig.axes)
     2
     """
@@ -308,8 +310,8 @@ def lemma4_terms(margins, theta_part: float, title: str | None = None) -> Figure
     >>> import orrc
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> alg2 = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
-    ...                                 theta_true=[1.2, 1.0])
+    >>> alg2 = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8,
+    ...                                 N=5, theta_true=[1.2, 1.0])
     >>> traj = orrc.simulate(ex.system, alg2, ex.x0, w, 50)
     >>> from orrc import certify, checks, theory
     >>> from orrc.viz import unknown_plots
@@ -318,8 +320,8 @@ def lemma4_terms(margins, theta_part: float, title: str | None = None) -> Figure
     >>> at = theory.alpha_f_tilde(L.alpha_f_S, 8)
     >>> m = checks.lemma4_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar, L.alpha_V,
     ...                           L.alpha_kappa, L.alpha_c, at)
-    >>> G = theory.Gamma_V_theta(8, k.alpha_lo, k.alpha_hi, L.alpha_V, L.alpha_kappa, L.alpha_c,
-    ...                          at)
+    >>> G = theory.Gamma_V_theta(8, k.alpha_lo, k.alpha_hi, L.alpha_V, L.alpha_kappa,
+    ...                          L.alpha_c, at)
     >>> fig = unknown_plots.lemma4_terms(m, G * traj.info["theta_error"])
     >>> fig.axes[0].get_yscale()
     'symlog'
@@ -361,7 +363,8 @@ def loss_vs_error(errors, losses: dict, title: str | None = None) -> Figure:
     >>> import numpy as np
     >>> from orrc.viz import unknown_plots
     >>> e = np.array([0.01, 0.03, 0.1, 0.3])
-    >>> fig = unknown_plots.loss_vs_error(e, {"quadratic": 2 * e ** 2, "Lipschitz": 0.5 * e})
+    >>> fig = unknown_plots.loss_vs_error(e,
+    ...                                   {"quadratic": 2 * e ** 2, "Lipschitz": 0.5 * e})
     >>> [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     ['quadratic: slope 2.00', 'Lipschitz: slope 1.00']
     """
@@ -477,8 +480,8 @@ def tradeoff_curves(tradeoff, Ts, title: str | None = None) -> Figure:
     >>> from orrc.viz import unknown_plots
     >>> di = orrc.examples.double_integrator()
     >>> study = tradeoff.exploration_tradeoff(di.system, orrc.ParametricSystem.linear(2, 1),
-    ...                                       di.cost, M=5, Ns=[3, 6, 12], seeds=2, window=30,
-    ...                                       backend="serial")
+    ...                                       di.cost, M=5, Ns=[3, 6, 12], seeds=2,
+    ...                                       window=30, backend="serial")
     >>> fig = unknown_plots.tradeoff_curves(study, [100, 1000])
     >>> fig.axes[0].get_xscale(), fig.axes[0].get_yscale()
     ('log', 'log')
@@ -523,8 +526,8 @@ def best_N(tradeoff, Ts, title: str | None = None) -> Figure:
     >>> from orrc.viz import unknown_plots
     >>> di = orrc.examples.double_integrator()
     >>> study = tradeoff.exploration_tradeoff(di.system, orrc.ParametricSystem.linear(2, 1),
-    ...                                       di.cost, M=5, Ns=[3, 6, 12], seeds=2, window=30,
-    ...                                       backend="serial")
+    ...                                       di.cost, M=5, Ns=[3, 6, 12], seeds=2,
+    ...                                       window=30, backend="serial")
     >>> fig = unknown_plots.best_N(study, [100, 300, 1000])
     >>> fig.axes[0].get_xlabel()
     'T'
