@@ -46,12 +46,34 @@ def _plans(plans) -> dict:
 
 
 def bounds_history(plans: dict, title: str | None = None) -> Figure:
-    """The bounds on V_{W,M}(x) after each iteration of a min-max solve (``plan.history``).
+    """The bounds on the min-max value V_{W,M}(x) of Algorithm 3 after each iteration of its solve
+    (``plan.history``).
 
-    Top: lower (dots) and upper (squares) bounds divided by the final value, one colour per
-    plan (``plans``: label -> :class:`~orrc.solvers.minmax.MinMaxPlan`). Bottom: the relative gap
-    (upper - lower)/upper on a log scale (a gap of exactly 0 is drawn at 1e-16). The panels are
-    stacked (readable on a phone).
+    Top: lower (dots) and upper (squares) bounds divided by the final value, one colour per plan.
+    Bottom: the relative gap (upper − lower)/upper on a log scale (a gap of exactly 0 is drawn at
+    1e-16). The panels are stacked (readable on a phone).
+
+    Parameters
+    ----------
+    plans : dict label -> :class:`~orrc.solvers.minmax.MinMaxPlan` (from
+        :meth:`orrc.MinMaxRHC.plan`).
+    title : optional title above the panels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, one above the other.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.viz import minmax_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> plan = orrc.MinMaxRHC(ex.system, ex.cost, 6, W).plan([1.0])
+    >>> fig = minmax_plots.bounds_history({"box ±0.5": plan})
+    >>> len(fig.axes), fig.axes[1].get_yscale()
+    (2, 'log')
     """
     plans = _plans(plans)
     fig, axes = _figure(2, 1, width=6.4, height=7.6)
@@ -81,14 +103,41 @@ def bounds_history(plans: dict, title: str | None = None) -> Figure:
 
 
 def minmax_pareto(constants, preview=None, title: str | None = None) -> Figure:
-    """The pairs (γ̄_W, ᾱ_W) with V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖² (the class of Lemma 6).
+    """The pairs (γ̄_W, ᾱ_W) of the class of Lemma 6, V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖², on log
+    axes.
 
-    ``constants``: :class:`~orrc.certify.MinMaxConstants`. Drawn on log axes: its curve (certified,
-    or sampled for an estimate), the lower curve of exact samples (``info["lower_pareto"]``, when
-    present: the true curve lies between), the chosen pair (star), the horizon threshold
-    ᾱ_W < α_lo √(M-1) (dotted) and, when ``preview`` (:class:`~orrc.certify.Constants` of the
-    preview problem at the same M) is given, the paper's pair (γ̄ M, ᾱ) (a cross) and the
-    smallest admissible γ̄_W, V_{W,M}(0)/max‖w‖² (dashed vertical line).
+    Drawn: the curve of ``constants`` (certified, or sampled for an estimate), the lower curve of
+    exact samples (``info["lower_pareto"]``, when present: the true curve lies between), the
+    chosen pair (star), the horizon threshold ᾱ_W < α_lo √(M−1) (dotted) and, when ``preview``
+    is given, the paper's pair (γ̄ M, ᾱ) (a cross) and the smallest admissible γ̄_W,
+    V_{W,M}(0)/max‖w‖² (dashed vertical line).
+
+    Parameters
+    ----------
+    constants : the :class:`~orrc.certify.MinMaxConstants` of
+        :func:`orrc.certify.minmax_constants`.
+    preview : optional :class:`~orrc.certify.Constants` of the preview problem at the same M
+        (:func:`orrc.certify.lq_constants`).
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> from orrc.viz import minmax_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)
+    >>> fig = minmax_plots.minmax_pareto(k,
+    ...                                  preview=certify.lq_constants(ex.system,
+    ...                                                               ex.cost, 6))
+    >>> fig.axes[0].get_xscale(), fig.axes[0].get_yscale()
+    ('log', 'log')
     """
     from ..certify import Constants, MinMaxConstants
 
@@ -135,13 +184,43 @@ def minmax_pareto(constants, preview=None, title: str | None = None) -> Figure:
 
 
 def lemma6_check(lemma6, value_bound=None, title: str | None = None, fast: bool = False) -> Figure:
-    """Lemma 6 along a trajectory of Algorithm 3, from :func:`orrc.checks.lemma6_margins` (``lemma6``).
+    """Lemma 6 along a trajectory of Algorithm 3: the min-max value V^t_{W,M}(x_t) between its
+    bounds, and its increments under Lemma 6's bound.
 
-    Top: V^t_{W,M}(x_t) with its lower bound α_lo σ(x_t) and, when ``value_bound``
-    (:func:`orrc.checks.minmax_value_bound_margins`) is given, the upper bound ᾱ_W σ(x_t) +
-    γ̄_W max‖w‖² (log scale). Bottom: the increments V^{t+1} - V^t and the bound
-    Γ_{W,V} σ(x_t) + Γ^γ_{W,V} max‖w‖² (symmetric log scale). The title gives the smallest margin.
-    The figure of Lemma 1 (:func:`orrc.viz.theory_plots.lemma1_check`) with Lemma 6's labels, stacked.
+    Top: V^t_{W,M}(x_t) with its lower bound α_lo σ(x_t) and, when ``value_bound`` is given, the
+    upper bound ᾱ_W σ(x_t) + γ̄_W max‖w‖² (log scale). Bottom: the increments V^{t+1} − V^t and
+    the bound Γ_{W,V} σ(x_t) + Γ^γ_{W,V} max‖w‖² (symmetric log scale). The title gives the
+    smallest margin. The figure of Lemma 1 (:func:`orrc.viz.theory_plots.lemma1_check`) with
+    Lemma 6's labels, stacked.
+
+    Parameters
+    ----------
+    lemma6 : the margins of :func:`orrc.checks.lemma6_margins`.
+    value_bound : optional margins of :func:`orrc.checks.minmax_value_bound_margins`.
+    title : optional title above the panels.
+    fast : fixed margins instead of the constrained layout (for explorer frames).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, one above the other.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> from orrc.viz import minmax_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)
+    >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
+    >>> minmax = orrc.MinMaxRHC(ex.system, ex.cost, 6, W)
+    >>> traj = orrc.simulate(ex.system, minmax, ex.x0, w, 30)
+    >>> lemma6 = checks.lemma6_margins(traj, 6, W, k.alpha_lo, k.alpha_hi_W, k.gamma_bar_W)
+    >>> bound = checks.minmax_value_bound_margins(traj, 6, W, k.alpha_hi_W, k.gamma_bar_W)
+    >>> fig = minmax_plots.lemma6_check(lemma6, bound, title="scalar system, M = 6")
+    >>> len(fig.axes)
+    2
     """
     from ..checks import Lemma1Margins
 
@@ -157,13 +236,44 @@ def lemma6_check(lemma6, value_bound=None, title: str | None = None, fast: bool 
 
 
 def theorem3_growth(runs: dict, gamma: float, w_max_sq: float, title: str | None = None) -> Figure:
-    """Theorem 3 along trajectories: the cumulative cost against what the theorem allows.
+    """Theorem 3 along trajectories of Algorithm 3: the cumulative cost against what the theorem
+    allows.
 
-    ``runs``: label -> (:class:`~orrc.Trajectory`, :class:`~orrc.checks.Margins` of
-    :func:`orrc.checks.theorem3_margin` at level ``gamma``). For each run, one colour: the
-    cumulative cost Σ_{t<T} c_t (solid), Theorem 3's bound on it, C_T + γ T max‖w‖² (dashed), and
-    γ Σ_{t<T} ‖w_t‖², the same level applied to the realised disturbance energy (dotted: what a
-    guarantee in terms of the realised energy would allow; Theorem 3 does not give one). Log scale.
+    For each run, one colour: the cumulative cost Σ_{t<T} c_t (solid), Theorem 3's bound on it,
+    C_T + γ T max‖w‖² (dashed), and γ Σ_{t<T} ‖w_t‖², the same level applied to the realised
+    disturbance energy (dotted: what a guarantee in terms of the realised energy would allow;
+    Theorem 3 does not give one). Log scale.
+
+    Parameters
+    ----------
+    runs : dict label -> (:class:`~orrc.Trajectory`, :class:`~orrc.checks.Margins` of
+        :func:`orrc.checks.theorem3_margin` at the level ``gamma``).
+    gamma : the level γ of the margins (e.g. γ_{c,W}).
+    w_max_sq : max‖w‖² over W.
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> from orrc.viz import minmax_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)
+    >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
+    >>> minmax = orrc.MinMaxRHC(ex.system, ex.cost, 6, W)
+    >>> traj = orrc.simulate(ex.system, minmax, ex.x0, w, 30)
+    >>> m = checks.theorem3_margin(traj, 6, W, k.a, k.alpha_lo, k.alpha_hi_W, k.gamma_bar_W,
+    ...                            k.gamma_c_W)
+    >>> fig = minmax_plots.theorem3_growth({"uniform in W": (traj, m)}, k.gamma_c_W,
+    ...                                    W.max_norm_sq)
+    >>> fig.axes[0].get_yscale()
+    'log'
     """
     from ..checks import Margins
     from ..simulate import Trajectory
@@ -204,8 +314,29 @@ def theorem3_growth(runs: dict, gamma: float, w_max_sq: float, title: str | None
 
 
 def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"total cost $\sum_t c_t$") -> Figure:
-    """Grouped bars: ``costs`` maps a disturbance label to {controller label: total cost}; one
-    group per disturbance, one colour per controller (log scale)."""
+    """Grouped bars of total costs, as in the comparisons of Algorithm 3 with the other controllers:
+    one group per disturbance, one colour per controller, on a log scale.
+
+    Parameters
+    ----------
+    costs : dict disturbance label -> {controller label: total cost >= 0}.
+    title : optional title.
+    ylabel : the value axis' label.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> from orrc.viz import minmax_plots
+    >>> costs = {"uniform in W": {"min-max RHC": 2.5, "LQR": 2.6},
+    ...          "worst vertex sequence": {"min-max RHC": 9.0, "LQR": 11.0}}
+    >>> fig = minmax_plots.controller_costs(costs, title="T = 30")
+    >>> fig.axes[0].get_yscale()
+    'log'
+    """
     costs = _nonempty_dict("costs", costs, "dict of controller -> total cost")
     controllers = []
     for k, d in costs.items():
@@ -231,16 +362,49 @@ def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"tota
     return fig
 
 
-def minmax_frame(M: int, r: float, trajs: dict, bound=None, w_max_sq: float | None = None) -> Figure:
-    """An explorer frame for the horizon M and the size r of W = [-r, r]^n.
+def minmax_frame(M: int, w_max: float, trajs: dict, bound=None, w_max_sq: float | None = None) -> Figure:
+    """One frame of the min-max explorer for the horizon M and the size w_max of the box
+    W = [−w_max, w_max]^n of Algorithm 3.
 
-    Top: the cumulative cost of each closed loop (``trajs``: label -> :class:`~orrc.Trajectory`,
-    all under the same disturbance). Bottom: the min-max controller's value
-    V^t_{W,M}(x_t) (the trajectory labelled with "min-max") with ``bound`` (an array over t, e.g.
-    ᾱ_W σ(x_t) + γ̄_W max‖w‖²) when given, else a message that no certified pair exists.
+    Top: the cumulative cost of each closed loop, all under the same disturbance. Bottom: the
+    min-max controller's value V^t_{W,M}(x_t) (the trajectory labelled with "min-max") with
+    ``bound`` when given, else a message that no certified pair exists.
+
+    Parameters
+    ----------
+    M : the horizon, >= 1.
+    w_max : the half-width of the box W, >= 0.
+    trajs : dict label -> :class:`~orrc.Trajectory`, all under the same disturbance.
+    bound : optional (T,) upper bound on the value along the min-max run, e.g.
+        ᾱ_W σ(x_t) + γ̄_W max‖w‖² (the ``bound`` of
+        :func:`orrc.checks.minmax_value_bound_margins`).
+    w_max_sq : optional max‖w‖² over W, named in the title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, one above the other.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> from orrc.viz import minmax_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)
+    >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
+    >>> minmax = orrc.MinMaxRHC(ex.system, ex.cost, 6, W)
+    >>> traj = orrc.simulate(ex.system, minmax, ex.x0, w, 30)
+    >>> bound = checks.minmax_value_bound_margins(traj, 6, W, k.alpha_hi_W,
+    ...                                           k.gamma_bar_W).bound
+    >>> fig = minmax_plots.minmax_frame(6, 0.5, {"min-max RHC": traj}, bound=bound,
+    ...                                 w_max_sq=0.25)
+    >>> fig.texts[0].get_text()
+    'M = 6, W = [-0.5, 0.5], max‖w‖² = 0.25'
     """
     M = as_int("M", M, minimum=1)
-    r = as_float("r", r, minimum=0.0)
+    w_max = as_float("w_max", w_max, minimum=0.0)
     trajs = _trajs(trajs)
     fig, axes = _figure(2, 1, width=6.4, height=7.4, fast=True,
                         margins={"bottom": 0.14, "top": 0.92, "hspace": 0.75, "left": 0.13, "right": 0.97})
@@ -272,5 +436,5 @@ def minmax_frame(M: int, r: float, trajs: dict, bound=None, w_max_sq: float | No
         ax2.set_title("the min-max value and its certified bound", fontsize=10)
         _legend_below(ax2, ncol=1, offset=-0.22)
     w = "" if w_max_sq is None else f", max‖w‖² = {as_float('w_max_sq', w_max_sq, minimum=0.0):.3g}"
-    fig.suptitle(f"M = {M}, W = [-{r:g}, {r:g}]" + w, fontsize=11)
+    fig.suptitle(f"M = {M}, W = [-{w_max:g}, {w_max:g}]" + w, fontsize=11)
     return fig
