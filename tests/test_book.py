@@ -355,10 +355,11 @@ _OVERFLOWING = """() => {
 }"""
 
 
-# blocks wider than the text column (whether or not they sit in a box that scrolls): at a laptop's
-# width no equation or table may be (they are written to fit the column); at a phone's no table may
-# be (tables reflow; long equations scroll in their own box). Code and its output still scroll in
-# their box at both widths (with the cue checked below)
+# blocks wider than the text column (whether or not they sit in a box that scrolls), and code or
+# printed output wider than its own box: at a laptop's width no equation, table, code or output may
+# be (they are written to fit: code and printed lines within 88 characters, which the column shows at
+# 13 px); at a phone's no table may be (tables reflow; long equations, code and output scroll in
+# their own box, with the cue checked below)
 _WIDE_BLOCKS = """() => {
   const column = document.querySelector('#main-content article') || document.querySelector('#main-content');
   const width = column.getBoundingClientRect().width;
@@ -366,7 +367,11 @@ _WIDE_BLOCKS = """() => {
   const found = [];
   column.querySelectorAll('div.math, mjx-container[display="true"], pre, table').forEach(e => {
     const w = Math.max(e.scrollWidth, e.getBoundingClientRect().width);
-    if (w > width + 1) { found.push({kind: kind(e), width: Math.round(w), html: e.outerHTML.slice(0, 120)}); }
+    const scrolls = e.tagName === 'PRE' && e.clientWidth > 0 && e.scrollWidth > e.clientWidth + 1;
+    if (w > width + 1 || scrolls) {
+      const line = e.textContent.split('\\n').reduce((a, b) => (b.length > a.length ? b : a), '');
+      found.push({kind: kind(e), width: Math.round(w), html: e.outerHTML.slice(0, 120), line: line.slice(0, 100)});
+    }
   });
   return found;
 }"""
@@ -560,7 +565,7 @@ async def check_page(chromium, page: str) -> None:
             # every block wider than its box scrolls in it, with a visible cue, and takes keyboard focus
             await pg.evaluate("() => window.orrcMarkOverflow && window.orrcMarkOverflow()")
             wide = await pg.evaluate(_WIDE_BLOCKS)
-            too_wide = [b for b in wide if b["kind"] == "table" or (width >= 1366 and b["kind"] == "equation")]
+            too_wide = [b for b in wide if b["kind"] == "table" or width >= 1366]
             assert not too_wide, f"{page} at {width} px: wider than the text column ({len(too_wide)}): {too_wide[:3]}"
             for box in await pg.evaluate(_OVERFLOWING):
                 assert box["overflowX"] in ("auto", "scroll"), f"{page} at {width} px: clipped, no scrolling: {box}"
