@@ -183,7 +183,8 @@ def minmax_pareto(constants, preview=None, title: str | None = None) -> Figure:
 
 def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"total cost $\sum_t c_t$") -> Figure:
     """Grouped bars of total costs, as in the comparisons of Algorithm 3 with the other controllers:
-    one group per disturbance, one colour per controller, on a log scale.
+    one group per disturbance, one colour per controller, on a log scale, each bar with its value
+    (3 significant digits) above it.
 
     Parameters
     ----------
@@ -202,8 +203,8 @@ def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"tota
     >>> costs = {"uniform in W": {"min-max RHC": 2.5, "LQR": 2.6},
     ...          "worst vertex sequence": {"min-max RHC": 9.0, "LQR": 11.0}}
     >>> fig = minmax_plots.controller_costs(costs, title="T = 30")
-    >>> fig.axes[0].get_yscale()
-    'log'
+    >>> fig.axes[0].get_yscale(), sorted(t.get_text() for t in fig.axes[0].texts)
+    ('log', ['11', '2.5', '2.6', '9'])
     """
     costs = _nonempty_dict("costs", costs, "dict of controller -> total cost")
     controllers = []
@@ -216,13 +217,19 @@ def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"tota
     fig, ax = _figure(width=7.0, height=4.0)
     ax = ax[0, 0]
     width = 0.8 / len(controllers)
+    top = 0.0
     for i, c in enumerate(controllers):
         xs = [j + (i - (len(controllers) - 1) / 2) * width for j in range(len(costs))]
-        vals = [costs[k].get(c, np.nan) for k in costs]
-        ax.bar(xs, vals, width=width * 0.95, color=controller_color(c, i), label=c)
+        vals = [float(costs[k].get(c, np.nan)) for k in costs]
+        bars = ax.bar(xs, vals, width=width * 0.95, color=controller_color(c, i), label=c)
+        # each bar shows its value above it
+        ax.bar_label(bars, labels=["" if np.isnan(v) else f"{v:.3g}" for v in vals], padding=2, fontsize=9)
+        top = max([top] + [v for v in vals if np.isfinite(v)])
     ax.set_xticks(range(len(costs)))
     ax.set_xticklabels(list(costs), fontsize=9)
     ax.set_yscale("log")
+    if top > 0:
+        ax.set_ylim(top=top * 3)   # room for the values above the tallest bars
     ax.set_ylabel(ylabel)
     _legend_below(ax, ncol=2, offset=-0.14)
     if title:
