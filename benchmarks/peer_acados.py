@@ -27,27 +27,32 @@ for _lib in ("libblasfeo.so", "libhpipm.so", "libqpOASES_e.so.3.1", "libacados.s
 
 import casadi as ca  # noqa: E402
 from acados.acados_template import AcadosModel, AcadosOcp, AcadosOcpSolver  # noqa: E402
+from peer_models import dynamics, n_states, plant, weights  # noqa: E402
 from threadpoolctl import threadpool_info  # noqa: E402
 
 
 def build(prob, where):
-    dt, gl, fr, umax, (qt, qo), r, M = (prob[k] for k in ("dt", "g_over_l", "friction", "u_max", "q", "r", "M"))
-    x, u, w = ca.SX.sym("x", 2), ca.SX.sym("u", 1), ca.SX.sym("w", 2)
+    """The acados solver of the problem: SQP (or its real-time iteration, ``prob["rti"]``), Gauss-Newton
+    Hessian of the least-squares cost, HPIPM with partial condensing."""
+    M, dt, umax, n = prob["M"], prob["dt"], prob["u_max"], n_states(prob)
+    q, r = weights(prob)
+    x, u, w = ca.SX.sym("x", n), ca.SX.sym("u", 1), ca.SX.sym("w", n)
     model = AcadosModel()
-    model.name, model.x, model.u, model.p = "pendulum", x, u, w
-    model.disc_dyn_expr = ca.vertcat(x[0] + dt * x[1], x[1] + dt * (gl * ca.sin(x[0]) - fr * x[1] + u[0])) + w
+    model.name, model.x, model.u, model.p = prob.get("model", "pendulum"), x, u, w
+    model.disc_dyn_expr = dynamics(prob, x, u, w)
     ocp = AcadosOcp()
     ocp.model = model
     ocp.dims.N = M
-    ocp.parameter_values = np.zeros(2)
+    ocp.parameter_values = np.zeros(n)
     ocp.cost.cost_type, ocp.cost.cost_type_e = "LINEAR_LS", "LINEAR_LS"
-    ocp.cost.Vx, ocp.cost.Vu = np.vstack([np.eye(2), np.zeros((1, 2))]), np.array([[0.0], [0.0], [1.0]])
-    ocp.cost.W, ocp.cost.yref = 2 * np.diag([qt, qo, r]), np.zeros(3)   # acados: ½‖y‖²_W
-    ocp.cost.Vx_e, ocp.cost.W_e, ocp.cost.yref_e = np.eye(2), np.zeros((2, 2)), np.zeros(2)  # no terminal cost
+    ocp.cost.Vx, ocp.cost.Vu = np.vstack([np.eye(n), np.zeros((1, n))]), np.vstack([np.zeros((n, 1)), [[1.0]]])
+    ocp.cost.W, ocp.cost.yref = 2 * np.diag(np.append(q, r)), np.zeros(n + 1)   # acados: ½‖y‖²_W
+    ocp.cost.Vx_e, ocp.cost.W_e, ocp.cost.yref_e = np.eye(n), np.zeros((n, n)), np.zeros(n)  # no terminal cost
     ocp.constraints.x0 = np.array(prob["x0"], float)
     ocp.constraints.lbu, ocp.constraints.ubu, ocp.constraints.idxbu = np.array([-umax]), np.array([umax]), np.array([0])
     opts = ocp.solver_options
-    opts.tf, opts.integrator_type, opts.nlp_solver_type = M * dt, "DISCRETE", "SQP"
+    opts.tf, opts.integrator_type = M * dt, "DISCRETE"
+    opts.nlp_solver_type = "SQP_RTI" if prob.get("rti") else "SQP"
     opts.hessian_approx, opts.qp_solver = "GAUSS_NEWTON", "PARTIAL_CONDENSING_HPIPM"
     opts.nlp_solver_max_iter, opts.qp_solver_iter_max = 200, 100
     opts.nlp_solver_tol_stat = opts.nlp_solver_tol_eq = opts.nlp_solver_tol_ineq = opts.nlp_solver_tol_comp = 1e-10
@@ -57,7 +62,8 @@ def build(prob, where):
 
 
 def closed_loop(solver, prob):
-    dt, gl, fr, T, M = prob["dt"], prob["g_over_l"], prob["friction"], prob["T"], prob["M"]
+    T, M, n = prob["T"], prob["M"], n_states(prob)
+    step = plant(prob)
     W = np.array(prob["w"])
     x = np.array(prob["x0"], float)
     for k in range(M + 1):  # a cold start: zero inputs, the state held
@@ -72,11 +78,11 @@ def closed_loop(solver, prob):
         for k in range(M):
             solver.set(k, "p", W[t + k])
         status = solver.solve()
-        if status != 0:
+        if status != 0 and not (prob.get("rti") and status == 2):   # RTI: one iteration, "max. iterations" is its end
             raise RuntimeError(f"acados failed at t={t} with status {status}")
         u = float(solver.get(0, "u")[0])
         U.append(u)
-        x = np.array([x[0] + dt * x[1], x[1] + dt * (gl * np.sin(x[0]) - fr * x[1] + u)]) + W[t]
+        x = step(x, [u], W[t])
     return U, time.process_time() - c0, time.perf_counter() - t0
 
 

@@ -11,23 +11,24 @@ import time
 import casadi as ca
 import do_mpc
 import numpy as np
+from peer_models import dynamics, n_states, plant, weights
 from threadpoolctl import threadpool_info
 
 
 def build(prob):
-    dt, gl, fr, umax, (qt, qo), r, M = (prob[k] for k in ("dt", "g_over_l", "friction", "u_max", "q", "r", "M"))
+    umax, M, dt, n = prob["u_max"], prob["M"], prob["dt"], n_states(prob)
+    q, r = weights(prob)
     model = do_mpc.model.Model("discrete")
-    th, om = model.set_variable("_x", "theta"), model.set_variable("_x", "omega")
+    x = model.set_variable("_x", "x", shape=(n, 1))
     u = model.set_variable("_u", "u")
-    w0, w1 = model.set_variable("_tvp", "w0"), model.set_variable("_tvp", "w1")
-    model.set_rhs("theta", th + dt * om + w0)
-    model.set_rhs("omega", om + dt * (gl * ca.sin(th) - fr * om + u) + w1)
+    w = model.set_variable("_tvp", "w", shape=(n, 1))
+    model.set_rhs("x", dynamics(prob, x, ca.vertcat(u), w))
     model.setup()
     mpc = do_mpc.controller.MPC(model)
     mpc.settings.n_horizon, mpc.settings.t_step = M, dt
     mpc.settings.store_full_solution = False
     mpc.settings.nlpsol_opts = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": 0, "ipopt.tol": 1e-10}
-    mpc.set_objective(mterm=0 * th, lterm=qt * th ** 2 + qo * om ** 2 + r * u ** 2)
+    mpc.set_objective(mterm=0 * x[0], lterm=ca.dot(ca.DM(q), x ** 2) + r * u ** 2)
     mpc.bounds["lower", "_u", "u"], mpc.bounds["upper", "_u", "u"] = -umax, umax
     W = np.array(prob["w"])
     tvp = mpc.get_tvp_template()
@@ -35,8 +36,7 @@ def build(prob):
     def tvp_fun(t_now):
         k0 = int(round(float(np.asarray(t_now).reshape(-1)[0]) / dt))
         for k in range(M + 1):
-            w = W[k0 + k] if k0 + k < len(W) else np.zeros(2)
-            tvp["_tvp", k, "w0"], tvp["_tvp", k, "w1"] = w[0], w[1]
+            tvp["_tvp", k, "w"] = W[k0 + k] if k0 + k < len(W) else np.zeros(n)
         return tvp
 
     mpc.set_tvp_fun(tvp_fun)
@@ -46,7 +46,7 @@ def build(prob):
 
 def closed_loop(prob):
     mpc, W = build(prob)
-    dt, gl, fr, T = prob["dt"], prob["g_over_l"], prob["friction"], prob["T"]
+    T, step = prob["T"], plant(prob)
     x = np.array(prob["x0"], float)
     mpc.x0 = x.reshape(-1, 1)
     mpc.set_initial_guess()
@@ -55,7 +55,7 @@ def closed_loop(prob):
     for t in range(T):
         u = float(np.asarray(mpc.make_step(x.reshape(-1, 1))).reshape(-1)[0])
         U.append(u)
-        x = np.array([x[0] + dt * x[1], x[1] + dt * (gl * np.sin(x[0]) - fr * x[1] + u)]) + W[t]
+        x = step(x, [u], W[t])
     return U, time.process_time() - c0, time.perf_counter() - t0
 
 

@@ -69,7 +69,7 @@ class BareCasadiLoop:
     state held), the plant ``system.function`` on a buffer as well; built once, like the controller."""
 
     def __init__(self, rhc: orrc.PreviewRHC):
-        nlp = rhc._nlp
+        nlp = self.nlp = rhc._nlp
         M, n, m = self.M, self.n, self.m = nlp.M, nlp.n, nlp.m
         compiled = nlp.compiled("sqp")   # orrc's NLP compiled (orrc._jit): the same library here
         self.solver = (compiled.fn if compiled is not None else
@@ -84,6 +84,12 @@ class BareCasadiLoop:
             self.buf.set_arg(i, memoryview(a))
         for i, r in enumerate((self.z,) + self.res):
             self.buf.set_res(i, memoryview(r))
+        # the shift of the guess in the solver's order, where the NLP's variables are in stage order (HPIPM)
+        self.shift = None
+        if nlp.order is not None:
+            nu = M * m
+            shift = np.r_[m:nu, nu - m:nu, nu + n:nu + M * n, nu + (M - 1) * n:nu + M * n]
+            self.shift = np.argsort(nlp.order)[shift[nlp.order]]
         self.fbuf, self.fevaluate = rhc.system.function.buffer()
         self.fx, self.fu, self.fw, self.fout = np.zeros(n), np.zeros(m), np.zeros(n), np.zeros(n)
         for i, a in enumerate((self.fx, self.fu, self.fw)):
@@ -98,7 +104,7 @@ class BareCasadiLoop:
         M, n, m, z, z0, p = self.M, self.n, self.m, self.z, self.z0, self.p
         X, U = np.empty((T + 1, n)), np.empty((T, m))
         X[0] = x0
-        z0[:M * m], z0[M * m:] = 0.0, np.tile(x0, M)
+        z0[self.nlp.iu], z0[self.nlp.ix] = 0.0, np.tile(x0, M)
         for t in range(T):
             x = X[t]
             p[:n] = x
@@ -108,10 +114,13 @@ class BareCasadiLoop:
                 stats = self.buf.stats()
                 if not stats["success"]:
                     raise CheckFailed(f"the bare loop's solve failed at t={t}: {stats['return_status']}")
-            U[t] = z[:m]
+            U[t] = z[:m]   # (the first input, in either order)
             # the guess of the next step: the solution shifted by one step
-            z0[:(M - 1) * m], z0[(M - 1) * m:M * m] = z[m:M * m], z[(M - 1) * m:M * m]
-            z0[M * m:M * m + (M - 1) * n], z0[M * m + (M - 1) * n:] = z[M * m + n:], z[-n:]
+            if self.shift is not None:
+                z0[:] = z[self.shift]
+            else:
+                z0[:(M - 1) * m], z0[(M - 1) * m:M * m] = z[m:M * m], z[(M - 1) * m:M * m]
+                z0[M * m:M * m + (M - 1) * n], z0[M * m + (M - 1) * n:] = z[M * m + n:], z[-n:]
             self.fx[:], self.fu[:], self.fw[:] = x, z[:m], w[t]
             self.fevaluate()
             X[t + 1] = self.fout

@@ -3,7 +3,9 @@
 Runs, with one BLAS thread for every tool (``benchmarks/common.py``), the closed-loop comparison
 with the peers (``benchmarks/peers.py``: bare CasADi, do-mpc, acados, python-control;
 CPU and wall time), the performance benchmarks (see ``benchmarks/pendulum.py``,
-``benchmarks/closed_loop.py`` and ``benchmarks/lq_path.py``), the comparison chapter's table and
+``benchmarks/closed_loop.py`` and ``benchmarks/lq_path.py``), how a closed-loop step grows with the
+horizon and the state dimension (``benchmarks/scaling.py``, ``benchmarks/scaling_lq.py``;
+``benchmarks/structure.py``: SQP's QP solver, general or structure-exploiting), the comparison chapter's table and
 the min-max benchmark (``benchmarks/minmax.py``), the explorers' re-draw times in a live
 kernel (``benchmarks/widgets.py``), prints the machine and a Markdown table of results,
 writes every row, the machine, the library versions (the peers' included) and the load average to a
@@ -23,13 +25,14 @@ import time
 from dataclasses import fields
 from pathlib import Path
 
-from . import closed_loop, comparison, lq_path, minmax, peers, pendulum, regret, widgets
+from . import closed_loop, comparison, lq_path, minmax, peers, pendulum, regret, scaling, scaling_lq, structure, widgets
 from .common import CheckFailed, blas_threads, machine, machine_info, markdown_table, one_thread, parse_time
 
 #: where a full run writes its results (read by the book's benchmarks page, book/benchmarks.md)
 RESULTS = Path(__file__).resolve().parent / "results.json"
 
-FULL = {"peers": {}, "regret": {}, "pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}, "minmax": {}, "widgets": {}}  # the defaults of each module's run()
+FULL = {"peers": {}, "regret": {}, "pendulum": {}, "closed_loop": {}, "lq": {}, "comparison": {}, "minmax": {}, "widgets": {},
+        "scaling": {}, "scaling_lq": {}, "structure": {}}  # the defaults of each module's run()
 QUICK = {
     "peers": dict(T=10, M=5, reps=1, reps_control=1, peers=()),
     "regret": dict(sizes=((8, 2, 1, 5.0),), sdp_size=(5, 2, 1)),
@@ -39,9 +42,13 @@ QUICK = {
     "comparison": dict(T=10, M=4),
     "minmax": dict(Ms=(4, 5), reps=1, M_pendulum=5, T=4),
     "widgets": dict(demo=True),
+    "scaling": dict(T=5, Ms=(3, 4), ks=(1, 2), M_chain=3, reps=1, tools=(), compile=False),
+    "scaling_lq": dict(ns=(4, 6), M=3, T=10, reps=1),
+    "structure": dict(T=4, Ms=(3, 4), reps=1, fatrop=False),
 }
 MODULES = {"peers": peers, "regret": regret, "pendulum": pendulum, "closed_loop": closed_loop, "lq": lq_path, "comparison": comparison,
-           "minmax": minmax, "widgets": widgets}
+           "minmax": minmax, "widgets": widgets, "scaling": scaling, "scaling_lq": scaling_lq,
+           "structure": structure}
 
 
 def main(argv=None) -> int:

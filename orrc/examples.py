@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ._validate import OrrcValueError, as_float
+from ._validate import OrrcValueError, as_float, as_int
 from .costs import QuadraticCost, StageCost
 from .systems import LinearSystem, NonlinearSystem, System
 
@@ -256,5 +256,66 @@ def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0,
                    (-u_max, u_max), f"Van der Pol oscillator, mu = {mu:g}, dt = {dt:g}, |u| <= {u_max:g}")
 
 
+#: the most masses :func:`mass_chain` builds (its symbolic model grows linearly with them)
+MAX_MASSES = 10_000
+
+
+def mass_chain(k: int = 2, dt: float = 0.1, stiffness: float = 1.0, cubic: float = 1.0, damping: float = 0.1,
+               u_max: float = 2.0) -> Example:
+    """A chain of k unit masses joined by nonlinear (hardening) springs, the first tied to a wall, a force on
+    the last: n = 2k, m = 1, any k (the scalable nonlinear example). Semi-implicit Euler:
+
+        v_{t+1} = v_t + dt (a(p_t) − damping v_t + e_k u_t),   p_{t+1} = p_t + dt v_{t+1},   plus w_t,
+
+    with state x = (p_1..p_k, v_1..v_k), the springs' stretches d_1 = p_1, d_i = p_i − p_{i−1}, the spring
+    force F(d) = stiffness d + cubic d³ and the accelerations a_i = F(d_{i+1}) − F(d_i) (no spring after the
+    last mass). Its linearisation at the origin is the linear chain (F(d) = stiffness d); without input and
+    disturbance the energy ½‖v‖² + Σ_i (stiffness d_i²/2 + cubic d_i⁴/4) is dissipated by the damping.
+    Cost c = ‖p‖² + 0.1 ‖v‖² + 0.1 u², input bounds |u| <= u_max, start p = 0.5 (every mass), v = 0.
+
+    Parameters
+    ----------
+    k : the number of masses, an integer in [1, MAX_MASSES] (the state dimension is n = 2k).
+    dt : the sampling period, > 0.
+    stiffness : the springs' linear coefficient, >= 0.
+    cubic : the springs' cubic coefficient, >= 0 (0: the linear chain).
+    damping : the viscous damping of each mass, >= 0.
+    u_max : the input bound |u| <= u_max, > 0.
+
+    Returns
+    -------
+    Example
+        ``system``, ``cost``, ``x0``, ``M``, ``input_bounds`` and a ``description``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> ex = orrc.examples.mass_chain(k=3)
+    >>> ex.system, ex.x0, ex.input_bounds
+    (NonlinearSystem(n=6, m=1, name='chain of 3 masses'), array([0.5, 0.5, 0.5, 0. , 0. , 0. ]), (-2.0, 2.0))
+    """
+    k = as_int("k", k, minimum=1, maximum=MAX_MASSES)
+    dt = as_float("dt", dt, minimum=0.0, strict_min=True)
+    stiffness = as_float("stiffness", stiffness, minimum=0.0)
+    cubic = as_float("cubic", cubic, minimum=0.0)
+    damping = as_float("damping", damping, minimum=0.0)
+    u_max = as_float("u_max", u_max, minimum=0.0, strict_min=True)
+
+    def f(x, u, w):
+        p, v = x[:k], x[k:]
+        d = ca.vertcat(p[0], p[1:] - p[:-1]) if k > 1 else p[0]
+        force = stiffness * d + cubic * d ** 3
+        a = (ca.vertcat(force[1:], 0) if k > 1 else 0) - force - damping * v
+        a[k - 1] += u[0]
+        v_next = v + dt * a
+        return ca.vertcat(p + dt * v_next, v_next) + w
+
+    Q = np.diag([1.0] * k + [0.1] * k)
+    masses = f"{k} mass{'es' if k > 1 else ''}"
+    return Example("mass_chain", NonlinearSystem(f, 2 * k, 1, name=f"chain of {masses}"),
+                   QuadraticCost(Q, [[0.1]]), np.concatenate([np.full(k, 0.5), np.zeros(k)]), 20,
+                   (-u_max, u_max), f"chain of {masses}, nonlinear springs (n = {2 * k}), |u| <= {u_max:g}")
+
+
 ALL = {f.__name__: f for f in (scalar_unstable, double_integrator, two_mass_spring,
-                               inverted_pendulum, van_der_pol)}
+                               inverted_pendulum, van_der_pol, mass_chain)}

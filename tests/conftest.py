@@ -153,13 +153,21 @@ def _start_book():
 
     from tools.build_book import build
 
+    from fresh_env import reader_env
+
     def run():
         published = tree_fingerprint(PUBLISHED_HTML)
         started, t0 = time.time(), time.perf_counter()
+        # every chapter is executed once per session, here, by a kernel of the environment its download
+        # installs (tests/fresh_env.py: built once, reused while requirements-reader.txt and the package
+        # do not change), in a temporary folder; every check of a chapter's run reads this build
+        with timed("reader environment"):
+            python = reader_env()
         # build() sets ORRC_BOOK_BUILD=1 for the chapters (static frames, no progress bars in the outputs)
-        with timed("book build"):
-            rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")})
-        return {"rc": rc, "seconds": time.perf_counter() - t0, "started": started, "published": published}
+        with timed("book build", after="reader environment"):
+            rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")}, kernel_python=python)
+        return {"rc": rc, "seconds": time.perf_counter() - t0, "started": started, "published": published,
+                "python": python}
 
     pool = ThreadPoolExecutor(max_workers=1)
     _BOOK["future"] = pool.submit(run)
@@ -174,8 +182,9 @@ def book():
     Returns the build's exit code, duration, start time (a wall-clock timestamp, to tell
     this build's outputs from older ones) and the fingerprint of the published
     ``_build/html`` taken before the build (tests/test_book.py checks that the session
-    leaves it untouched). Used by tests/test_book.py (the HTML) and tests/test_chapters.py
-    (the executed notebooks). The build starts when the tests are collected (:func:`_start_book`).
+    leaves it untouched), and the Python whose kernel executed the chapters (the environment a
+    download installs, tests/fresh_env.py). Used by tests/test_book.py (the HTML),
+    tests/test_chapters.py (the executed notebooks) and tests/test_downloads.py. The build starts when the tests are collected (:func:`_start_book`).
     """
     return book_result()
 
@@ -304,6 +313,7 @@ FORCED_FAILURE = {"sqpmethod.max_iter": 1, "ipopt.max_iter": 1}
 # collected, runs beside the rest of the suite (the book build included), and the tests that read
 # its results run last.
 _GRADING = {}
+_BUILT = {}
 
 # The gradings' results are read last, the book's first: on a busy machine the gradings (their fresh
 # environment, every otter run, the documented grading commands) take the cores the tests and the
@@ -323,7 +333,7 @@ def _yield_to_the_critical_path():
 def _start_grading(wanted=frozenset()):
     """Grade every assignment in the background; then compute the background fixtures in ``wanted``
     that wait on the gradings (see ``after`` below)."""
-    from concurrent.futures import ThreadPoolExecutor
+    from concurrent.futures import Future, ThreadPoolExecutor
 
     from tools import assignments
 
@@ -332,16 +342,34 @@ def _start_grading(wanted=frozenset()):
     fixtures = ROOT / "tests" / "fixtures" / "assignments"
     pool = ThreadPoolExecutor(max_workers=1, initializer=_yield_to_the_critical_path)
     # every notebook is graded by the otter of a fresh environment built from the autograder zip
-    # alone (tests/fresh_env.py: built once, shared by every assignment, reused while nothing changes)
-    def grade(*args, **kwargs):
-        with timed("gradings"):
-            return assignments.run_all(*args, **kwargs)
+    # alone (tests/fresh_env.py: built once, shared by every assignment, reused while nothing changes);
+    # every assignment is built before the first grading, and the jobs that need the built notebooks
+    # only (``after("built", ...)``) start then, beside the gradings
+    built_pool = ThreadPoolExecutor(max_workers=1, initializer=_yield_to_the_critical_path)
+    _BUILT["future"] = built = Future()
 
+    def on_built(results):
+        with _TIMELINE_LOCK:
+            _JOBS["assignments built"] = {"start": started - _T0, "end": time.time() - _T0, "after": None}
+        built.set_result({r["name"]: r for r in results})
+
+    def grade_all(*args, **kwargs):
+        try:
+            with timed("gradings", after="assignments built"):
+                return assignments.run_all(*args, on_built=on_built, **kwargs)
+        except BaseException as exc:   # what waits on the built assignments fails with the gradings
+            if not built.done():
+                built.set_exception(exc)
+            raise
+
+    started = time.time()
     _GRADING["future"] = pool.submit(
-        grade, BOOK_OUT / "_build" / "assignments",
+        grade_all, BOOK_OUT / "_build" / "assignments",
         extra=lambda n: {p.stem[len(n) + 1:]: p for p in sorted(fixtures.glob(f"{n}_wrong*.md"))},
         python=lambda paths: str(autograder_env(paths["autograder"])))
+    _start_after("built", set(wanted), built_pool)
     _start_after("graded", set(wanted), pool)
+    built_pool.shutdown(wait=False)
     pool.shutdown(wait=False)
 
 
@@ -353,7 +381,7 @@ def _start_grading(wanted=frozenset()):
 # A test module registers one with ``@after("book", "student_book")``: the function takes the
 # book's (or the gradings') result and returns the fixture's value; the fixture returns
 # ``background("student_book")``. Errors are raised where the fixture is used, as before.
-_AFTER = {"book": {}, "graded": {}}
+_AFTER = {"book": {}, "built": {}, "graded": {}}
 _BACKGROUND = {}
 
 
@@ -362,7 +390,7 @@ _ORDER: dict[str, int] = {}
 
 def after(what: str, name: str, order: int = 0):
     """Register ``fn(result of what)`` as the value of the session fixture ``name``, computed in the
-    background once ``what`` ("book" or "graded") is ready (see above); jobs start in increasing
+    background once ``what`` ("book", "built" or "graded") is ready (see above); jobs start in increasing
     ``order`` (the longest first, so that it is not left to run alone at the end)."""
     def register(fn):
         _AFTER[what][name] = fn
@@ -383,7 +411,7 @@ def background(name: str):
 def _start_after(what: str, names: set[str], pool) -> None:
     def job(name, fn):
         result = _waited(what)
-        with timed(name, after="book build" if what == "book" else "gradings"):
+        with timed(name, after={"book": "book build", "built": "assignments built", "graded": "gradings"}[what]):
             return fn(result)
 
     for name, fn in sorted(_AFTER[what].items(), key=lambda kv: _ORDER[kv[0]]):
@@ -392,8 +420,9 @@ def _start_after(what: str, names: set[str], pool) -> None:
 
 
 def _waited(what: str):
-    """The result of what a background fixture waits on: the book's build or the gradings."""
-    return book_result() if what == "book" else graded_result()
+    """The result of what a background fixture waits on: the book's build, the built assignments or
+    the gradings."""
+    return {"book": book_result, "built": built_result, "graded": graded_result}[what]()
 
 
 @pytest.hookimpl(trylast=True)   # after -m/-k deselection: a deselected test starts no build
@@ -426,6 +455,13 @@ def book_result():
     if "future" not in _BOOK:
         _start_book()
     return _wait_for("book build", _BOOK["future"])
+
+
+def built_result():
+    """Every assignment built, with the notebooks to grade (before any grading), by name."""
+    if "future" not in _BUILT:
+        _start_grading()
+    return _wait_for("assignments built", _BUILT["future"])
 
 
 def graded_result():

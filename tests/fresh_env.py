@@ -15,7 +15,9 @@ build instead of racing. A build that fails leaves nothing behind that a later c
 for a finished environment.
 
 :func:`orrc_wheel` builds the project's wheel once per package content, for environments (and
-autograder zips) that install ``orrc`` itself.
+autograder zips) that install ``orrc`` itself. :func:`reader_env` is the environment a chapter's
+download installs (``requirements-reader.txt`` and the wheel): the test build executes every
+chapter in its kernel.
 """
 from __future__ import annotations
 
@@ -195,3 +197,20 @@ def autograder_env(zip_path: Path, name: str = "autograder") -> Path:
         registry = [line for line in pip if not _local_files([line], Path(tmp))]
         assert len(registry) + len(wheels) == len(pip), f"unexpected lines in {zip_path.name}'s pip list: {pip}"
         return with_wheels(fresh_env(name, registry, base=Path(tmp)), wheels)
+
+
+READER_REQUIREMENTS = "requirements-reader.txt"
+
+
+def reader_requirements(root: Path = ROOT) -> list[str]:
+    """The pinned registry lines of ``requirements-reader.txt``: what a chapter's download installs
+    besides the orrc wheel (tools/sphinx_offline.py writes the file beside every download, with the
+    wheel's line added)."""
+    text = (Path(root) / READER_REQUIREMENTS).read_text(encoding="utf-8")
+    return [line.strip() for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+
+
+def reader_env(root: Path = ROOT) -> Path:
+    """The Python of the environment a reader builds from a chapter's download: the pinned lines of
+    ``requirements-reader.txt`` (keyed by them, :func:`fresh_env`) and the project's wheel on top."""
+    return with_wheels(fresh_env("reader", reader_requirements(root)), [orrc_wheel(root)])

@@ -45,12 +45,17 @@ def wrong_submissions(name: str, gaming: bool = False) -> dict[str, dict]:
     return out
 
 
-def test_five_assignments_one_per_part_of_the_paper():
-    """Each of the paper's three algorithms (and Theorem 1 and the comparison) is assessed."""
-    assert len(NAMES) >= 5, NAMES
+def test_assignments_cover_every_part_of_the_paper():
+    """Each of the paper's three algorithms (and Theorems 1 and 2, Lemmas 3-5, the comparison and
+    the forecasts beyond the paper) is assessed, and a nonlinear system is among them."""
+    assert len(NAMES) >= 7, NAMES
     chapters = {ch for n in NAMES for ch in assignments.read_assignment(assignments.SOURCES / n / f"{n}.md")["chapters"]}
-    for part in ("book/preview_rhc", "book/theorem1", "book/unknown_systems", "book/minmax", "book/comparison"):
+    for part in ("book/preview_rhc", "book/theorem1", "book/unknown_systems", "book/lemma3_4", "book/theorem2",
+                 "book/minmax", "book/comparison", "book/forecasts"):
         assert part in chapters, f"no assignment goes with {part}"
+    sources = [(assignments.SOURCES / n / f"{n}.md").read_text(encoding="utf-8") for n in NAMES]
+    assert any("orrc.ParametricSystem(" in s or "orrc.NonlinearSystem(" in s for s in sources), \
+        "no assignment works on a nonlinear system"
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -256,7 +261,7 @@ def test_every_exercise_has_time_and_difficulty_in_the_guide():
     missing = [lb for lb in labels if lb not in rows]
     assert not missing, f"exercises without time and difficulty in the guide's table: {missing}"
     syllabus = guide[guide.index("## Syllabus"):guide.index("## The exercises")]
-    assert all(re.search(rf"\| {i}\b|\b{i}; exam|, and {i}|\b{i} \|", syllabus) for i in range(1, 6))
+    assert all(re.search(rf"\| {i}\b|\b{i}; exam|, and {i}|\b{i} \|", syllabus) for i in range(1, len(NAMES) + 1))
 
 
 def json_text(outputs) -> str:

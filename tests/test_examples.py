@@ -39,3 +39,110 @@ def test_an_old_and_a_new_keyword_together_are_refused(old, new):
 def test_the_old_keywords_are_checked_like_the_new_ones():
     with pytest.warns(DeprecationWarning), pytest.raises(orrc.OrrcValueError, match="B must be non-zero"):
         exs.scalar_unstable(b=0.0)
+
+
+# ---- the chain of masses with nonlinear springs (the scalable example) ----
+
+def _linear_chain(k, dt, stiffness, damping):
+    """The linear chain in numpy, semi-implicit Euler: v+ = v + dt (K p − c v + e_k u), p+ = p + dt v+."""
+    K = -2 * stiffness * np.eye(k) + stiffness * (np.eye(k, k=1) + np.eye(k, k=-1))
+    K[k - 1, k - 1] = -stiffness   # no spring after the last mass
+    I, Z = np.eye(k), np.zeros((k, k))
+    Av = np.hstack([dt * K, (1 - dt * damping) * I])     # v+ in terms of (p, v)
+    Ap = np.hstack([I, Z]) + dt * Av                      # p+ = p + dt v+
+    bv = np.zeros((k, 1))
+    bv[-1] = dt
+    return np.vstack([Ap, Av]), np.vstack([dt * bv, bv])
+
+
+def _energy(x, k, stiffness, cubic):
+    p, v = x[:k], x[k:]
+    d = np.diff(np.concatenate([[0.0], p]))
+    return 0.5 * v @ v + np.sum(stiffness * d ** 2 / 2 + cubic * d ** 4 / 4)
+
+
+@pytest.mark.parametrize("k", [1, 2, 5])
+def test_the_chain_linearised_at_the_origin_is_the_linear_chain(k):
+    ex = exs.mass_chain(k=k, dt=0.05, stiffness=2.0, cubic=3.0, damping=0.2)
+    A, B = ex.system.linearize()
+    A_ref, B_ref = _linear_chain(k, 0.05, 2.0, 0.2)
+    assert ex.system.n == 2 * k and ex.system.m == 1
+    assert np.allclose(A, A_ref, rtol=0, atol=1e-14) and np.allclose(B, B_ref, rtol=0, atol=1e-14)
+    # away from the origin the cubic term changes the Jacobian: the springs are nonlinear
+    A1, _ = ex.system.linearize(x=ex.x0)
+    assert np.abs(A1 - A).max() > 1e-3
+
+
+def test_the_chain_with_no_cubic_term_is_linear_everywhere():
+    ex = exs.mass_chain(k=3, cubic=0.0)
+    rng = np.random.default_rng(0)
+    A, B = _linear_chain(3, 0.1, 1.0, 0.1)
+    for _ in range(5):
+        x, u, w = rng.normal(size=6), rng.normal(size=1), rng.normal(size=6)
+        assert np.allclose(ex.system.step(x, u, w), A @ x + B @ u + w, rtol=0, atol=1e-13)
+
+
+@pytest.mark.parametrize("k", [1, 3, 12])
+def test_the_chain_loses_energy_without_input(k):
+    ex = exs.mass_chain(k=k)
+    x, E0 = ex.x0.copy(), _energy(ex.x0, k, 1.0, 1.0)
+    E = [E0]
+    for _ in range(400):
+        x = ex.system.step(x, [0.0], np.zeros(2 * k))
+        E.append(_energy(x, k, 1.0, 1.0))
+    assert E[-1] < 0.5 * E0, "damping dissipates the energy"
+    assert max(E) < 1.05 * E0, "no energy is created (up to the integrator's bounded oscillation)"
+    undamped = exs.mass_chain(k=k, damping=0.0)
+    x = undamped.x0.copy()
+    for _ in range(400):
+        x = undamped.system.step(x, [0.0], np.zeros(2 * k))
+    assert _energy(x, k, 1.0, 1.0) > 0.8 * E0, "without damping the energy stays"
+
+
+def test_the_chain_force_acts_on_the_last_mass():
+    ex = exs.mass_chain(k=4)
+    x = np.zeros(8)
+    x1 = ex.system.step(x, [1.0], np.zeros(8))
+    assert np.allclose(x1[4:], [0, 0, 0, 0.1]) and np.allclose(x1[:4], [0, 0, 0, 0.01])
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(k=0), "k must be an integer >= 1; got 0"),
+    (dict(k=2.0), "k must be an integer; got"),
+    (dict(k=10 ** 6), "k must be an integer <= 10000"),
+    (dict(dt=0.0), "dt must be > 0"),
+    (dict(stiffness=-1.0), "stiffness must be >= 0"),
+    (dict(cubic=float("nan")), "cubic must be finite"),
+    (dict(damping=-0.1), "damping must be >= 0"),
+    (dict(u_max=0.0), "u_max must be > 0"),
+])
+def test_the_chain_refuses_bad_input_naming_the_argument(kwargs, match):
+    with pytest.raises(orrc.OrrcValueError, match=match):
+        exs.mass_chain(**kwargs)
+
+
+def test_the_chain_is_controlled_to_rest_by_the_nonlinear_rhc():
+    ex = exs.mass_chain(k=2)
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, 15, input_bounds=ex.input_bounds)
+    traj = orrc.simulate(ex.system, rhc, ex.x0, np.zeros((60 + 15, 4)), 60)
+    assert traj.n_failures == 0
+    free = ex.x0.copy()
+    for _ in range(60):
+        free = ex.system.step(free, [0.0], np.zeros(4))
+    assert np.linalg.norm(traj.x[-1]) < 0.5 * np.linalg.norm(free), "control brings the chain to rest faster"
+
+
+def test_an_sqp_solve_that_stops_without_a_status_is_a_failed_solve_and_ipopt_takes_the_step():
+    # on the chain of 10 masses at M = 20, CasADi's SQP stops inside its convexification of the Hessian and
+    # leaves no status (reading its statistics raises): the solve is reported failed, not raised, and the
+    # controller's ladder solves the step by IPOPT
+    ex = exs.mass_chain(k=10)
+    M = 20
+    rhc = orrc.PreviewRHC(ex.system, ex.cost, M, input_bounds=ex.input_bounds)
+    W, P = np.zeros((M, 20)), np.tile(ex.cost.default_params, (M, 1))
+    sqp = rhc._nlp.solve(ex.x0, W, P, solver="sqp")
+    assert sqp.success or "without a status" in sqp.status
+    plan = rhc.plan(ex.x0, W)
+    assert plan.success and np.isfinite(plan.value)
+    ip = rhc._nlp.solve(ex.x0, W, P, solver="ipopt")
+    assert plan.value == pytest.approx(ip.value, rel=1e-6)

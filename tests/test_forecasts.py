@@ -169,6 +169,44 @@ def test_robust_preview_is_algorithm_3_when_the_forecast_is_zero_and_the_error_s
     assert np.abs(a.inputs - b.inputs).max() < 1e-8 * max(1.0, np.abs(b.inputs).max())
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_robust_preview_over_a_polytope_is_the_worst_case_over_its_vertex_sequences(seed):
+    """E a triangle: the plan's value is min_U max over the sequences of E's vertices of the cost,
+    solved independently (cvxpy, every sequence an epigraph constraint, the condensed prediction);
+    the box given as a polytope of its corners plans as the box."""
+    import itertools
+
+    import cvxpy as cp
+
+    rng = np.random.default_rng(20 + seed)
+    system, cost = random_lq_problem(rng, n=2, m=1)
+    A, B, Q, R = system.A, system.B, cost.Q, cost.R
+    M, n = 3, 2
+    E = orrc.Polytope([[-0.2, -0.1], [0.3, 0.0], [0.0, 0.25]])
+    x, W_hat = rng.standard_normal(n), 0.2 * rng.standard_normal((M, n))
+    plan = RobustPreviewRHC(system, cost, M, E=E).plan(x, W_hat)
+
+    U, s = cp.Variable(M), cp.Variable()
+    worst = []
+    for seq in itertools.product(E.vertices(), repeat=M - 1):   # e_{M-1} reaches only the uncosted x_M
+        xj, J = x, 0
+        for j in range(M):
+            J = J + cp.quad_form(xj, Q) + R[0, 0] * cp.square(U[j])
+            e = seq[j] if j < M - 1 else np.zeros(n)
+            xj = A @ xj + B[:, 0] * U[j] + W_hat[j] + e
+        worst.append(J <= s)
+    ref = cp.Problem(cp.Minimize(s), worst)
+    ref.solve(solver=cp.CLARABEL)
+    assert abs(plan.value - ref.value) < 1e-6 * max(1.0, abs(ref.value))
+    assert np.abs(plan.inputs[:, 0] - U.value).max() < 1e-4 * max(1.0, np.abs(U.value).max())
+
+    box = orrc.Box([-0.2, -0.1], [0.3, 0.25])
+    corners = orrc.Polytope([[a, b] for a in (-0.2, 0.3) for b in (-0.1, 0.25)])
+    a, b = (RobustPreviewRHC(system, cost, M, E=S).plan(x, W_hat) for S in (box, corners))
+    assert abs(a.value - b.value) < 1e-9 * max(1.0, abs(a.value))
+    assert np.abs(a.inputs - b.inputs).max() < 1e-8 * max(1.0, np.abs(a.inputs).max())
+
+
 def test_a_larger_error_set_plans_for_more_cost(di):
     ex, w = di
     values = [RobustPreviewRHC(ex.system, ex.cost, 4, E=orrc.Box(-r, r, n=2)).plan(ex.x0, 0.1 * np.ones((4, 2))).value

@@ -59,7 +59,7 @@ def _class_folder(graded, folder: Path) -> dict[str, str]:
     folder.mkdir(parents=True)
     shutil.copy(r["paths"]["solution"], folder / "right.ipynb")
     shutil.copy(r["paths"]["student"], folder / "blank.ipynb")
-    label = sorted(k for k in r["grades"] if k.startswith("wrong"))[0]
+    label = sorted(k for k in r["submissions"] if k.startswith("wrong"))[0]
     shutil.copy(Path(r["paths"]["student"]).parents[2] / "submissions" / f"{label}.ipynb", folder / "one_wrong.ipynb")
     nb = nbformat.read(r["paths"]["solution"], as_version=4)
     first = next(c for c in nb.cells if c.cell_type == "code" and "def preview_plan" in c.source)
@@ -73,8 +73,11 @@ def _class_folder(graded, folder: Path) -> dict[str, str]:
     with zipfile.ZipFile(folder / "exported.zip", "w") as zf:   # what the export cell writes
         zf.write(r["paths"]["solution"], f"{FIRST}.ipynb")
         zf.writestr(".OTTER_LOG", b"")
-    looping = nbformat.read(r["paths"]["solution"], as_version=4)   # an endless loop in one answer
-    next(c for c in looping.cells if c.cell_type == "code" and "def R_curve" in c.source).source = "while True:\n    pass\n"
+    # an endless loop in one answer; it waits rather than spins, so that the LOOP_LIMIT seconds it runs
+    # take no core from the rest of the session (the time limit is on wall-clock time either way)
+    looping = nbformat.read(r["paths"]["solution"], as_version=4)
+    next(c for c in looping.cells if c.cell_type == "code" and "def R_curve" in c.source).source = (
+        "import time\nwhile True:\n    time.sleep(0.5)\n")
     nbformat.write(looping, folder / "looping.ipynb")
     net = nbformat.read(r["paths"]["solution"], as_version=4)       # tries the network, records what it got
     cell = next(c for c in net.cells if c.cell_type == "code" and "def R_curve" in c.source)
@@ -111,7 +114,7 @@ def clone(graded):
     return background("clone")
 
 
-@after("graded", "clone")
+@after("built", "clone")   # the built notebooks only: beside the gradings, not after them
 def run_the_documented_commands(graded):
     here = Path(tempfile.mkdtemp(prefix="orrc-clone-"))     # outside the repository, removed at exit
     atexit.register(shutil.rmtree, here, True)

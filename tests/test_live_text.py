@@ -8,6 +8,7 @@
 """
 import warnings
 
+import numpy as np
 import pytest
 
 from orrc._validate import OrrcValueError
@@ -48,6 +49,25 @@ def test_quoting_a_key_never_glued_or_a_bad_format_names_the_problem():
         glued("test-live-b", ".1z")
     with pytest.raises(OrrcValueError, match="fmt must be a format"):
         glued("test-live-b", 2)
+
+
+@pytest.mark.parametrize("value", [3.25, np.float64(2.5), 7, "text", [1, 2]])
+def test_in_a_build_kernel_without_myst_nb_glue_writes_what_myst_nb_writes(value):
+    """The test build runs the chapters in the environment a download installs, which has no
+    myst-nb: there ``glue`` writes the output myst-nb's ``glue`` writes (the book reads it)."""
+    from IPython.core.interactiveshell import InteractiveShell
+    from IPython.utils.capture import capture_output
+    from myst_nb import glue as myst_glue
+
+    from orrc.viz.notebook import _record
+
+    InteractiveShell.instance()
+    with capture_output() as theirs:
+        myst_glue("test-live-r", value, display=False)
+    with capture_output() as ours:
+        _record("test-live-r", value)
+    assert [(o.data, o.metadata) for o in ours.outputs] == [(o.data, o.metadata) for o in theirs.outputs]
+    assert ours.outputs and all(k.startswith("application/papermill.record/") for k in ours.outputs[0].data)
 
 
 @pytest.mark.parametrize("expression, parsed", [
@@ -157,3 +177,51 @@ def test_make_lab_shows_the_published_numbers_before_the_chapter_runs(tmp_path, 
     else:
         assert results == [{"expression": 'glued("x-gap", ".0f")',
                             "result": {"status": "ok", "data": {"text/plain": shown}, "metadata": {}}}]
+
+
+ROLES_CHAPTER = CHAPTER.replace(
+    "The gap is", "As {cite:t}`paper2021` prove in {prf:ref}`lemma-two`, the gap is").replace(
+    "```{code-cell}", "See {ref}`other-page` and `{cite:t}` in code.\n\n```{code-cell}")
+ROLE_TEXTS = {"{cite:t}`paper2021`": "Author and Other (2021)", "{prf:ref}`lemma-two`": "Lemma 2",
+              "{ref}`other-page`": "*The other page*"}
+
+
+@pytest.mark.parametrize("stamp", ["fresh", "stale"])
+def test_make_lab_shows_citations_and_references_as_the_book_does_and_saves_the_roles(tmp_path, stamp):
+    """With a published build of exactly these sources, make lab hands out a chapter whose
+    citations and references to other pages read as the HTML reads them (jupyterlab-myst alone
+    would show their keys); saving writes the chapter's roles back: byte-identical when untouched,
+    the roles kept around an edit."""
+    from conftest import run_coroutine
+    import json
+
+    pytest.importorskip("jupyter_server")
+    from tools.build_book import inputs_digest
+    from tools.lab_contents import ChapterContentsManager
+
+    import jupytext
+
+    written = jupytext.writes(jupytext.reads(ROLES_CHAPTER, fmt="md:myst"), fmt="md:myst")  # as jupytext writes it
+    chapter = tmp_path / "book" / "x.md"
+    chapter.parent.mkdir()
+    chapter.write_text(written, encoding="utf-8")
+    built = tmp_path / "_build" / "jupyter_execute" / "book"
+    built.mkdir(parents=True)
+    (built / "x.roles.json").write_text(json.dumps(ROLE_TEXTS))
+    digest = inputs_digest(tmp_path) if stamp == "fresh" else "0" * 64
+    (tmp_path / "_build" / "orrc-build.json").write_text(json.dumps({"digest": digest, "quick": False}))
+    cm = ChapterContentsManager(root_dir=str(tmp_path), book_root=str(tmp_path))
+    model = run_coroutine(cm.get("book/x.md"))
+    prose = "\n".join(c["source"] for c in model["content"]["cells"] if c["cell_type"] == "markdown")
+    if stamp == "stale":
+        assert "{cite:t}`paper2021`" in prose and "orrc_roles" not in json.dumps(model["content"])
+        return
+    assert "As Author and Other (2021) prove in Lemma 2, the gap is" in prose
+    assert "See *The other page* and `{cite:t}` in code." in prose, "a role in inline code stays code"
+    run_coroutine(cm.save({"type": "notebook", "format": "json", "content": model["content"]}, "book/x.md"))
+    assert chapter.read_text(encoding="utf-8") == written
+    model = run_coroutine(cm.get("book/x.md"))
+    cell = next(c for c in model["content"]["cells"] if "Lemma 2" in c["source"])
+    cell["source"] = cell["source"].replace("the gap is", "the gap, it turns out, is")
+    run_coroutine(cm.save({"type": "notebook", "format": "json", "content": model["content"]}, "book/x.md"))
+    assert chapter.read_text(encoding="utf-8") == written.replace("the gap is", "the gap, it turns out, is")

@@ -12,11 +12,10 @@ after the visible cell that sets it: ``T = orrc.config.size(T, 40)``.
   bound it; a ``size-switch`` cell rebinds only names that a visible cell bound before it. Names
   are found with :mod:`symtable` (assignments, imports, definitions, ``for`` and ``with``
   targets, walrus; names used inside functions, lambdas and comprehensions count).
-* Dynamic (``slow``): the visible cells and the ``size-switch`` cells of each page, in page
-  order, execute at the test size (``ORRC_QUICK=1``) without an error. They are the page's
-  ``.ipynb`` download (its code cells are the visible ones) with the size switches put back, run
-  once per session in a fresh environment by tests/downloads.py, which tests/test_downloads.py
-  reads too.
+* The run: every page is executed once per session, visible and hidden cells in page order at
+  the test size, by the book's build in the environment its download installs
+  (tests/downloads.py); with the static check, the visible cells alone (the download) run too.
+  tests/test_downloads.py checks that the download holds exactly the visible cells.
 * Code style: code lines of at most 88 characters; every ``assert`` states its claim.
 """
 from __future__ import annotations
@@ -28,8 +27,6 @@ from pathlib import Path
 import jupytext
 import pytest
 
-import downloads  # noqa: F401 - registers the background run of the downloads
-from conftest import background
 from tools.toc import ROOT, notebook_pages
 
 PAGES = notebook_pages()
@@ -157,24 +154,6 @@ def test_the_static_check_reports_a_name_set_out_of_sight(tmp_path):
     assert "code cell 4" in problems[0] and "['N']" in problems[0], problems[0]
     assert "code cell 5" in problems[1] and "['S']" in problems[1], problems[1]
     assert "code cell 7" in problems[2] and "['T']" in problems[2], problems[2]
-
-
-# ----------------------------------------------------------------------------- dynamic
-
-
-@pytest.fixture(scope="session")
-def downloads_run(book):
-    """Every chapter's download run once per session (tests/downloads.py, in the background)."""
-    return background("downloads_run")
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("page", PAGES)
-def test_the_visible_code_of_a_page_runs_as_a_reader_sees_it(downloads_run, page):
-    """The page's download holds exactly the code cells the page shows (tests/downloads.py checks
-    the count against the chapter); run with the size switches, it runs without an error."""
-    result = downloads_run["results"][page]
-    assert result["error"] is None, f"{page}: the visible code fails when run on its own:\n{result['error']}"
 
 
 # ----------------------------------------------------------------------------- code style

@@ -333,20 +333,37 @@ def fill_in(student: Path, answers: Path, dest: Path) -> Path:
     return dest
 
 
-def build_and_grade(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None,
-                    wheel: Path | None = None, python=None) -> dict:
-    """Build one assignment, then grade its solution notebook, its blank student notebook, and each
-    submission made from ``extra`` ({label: answers}, see :func:`fill_in`; e.g. a plausible wrong one).
-    ``python(paths)``: the interpreter that grades (see :func:`grade`), given the built paths."""
+def build_submissions(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None,
+                      wheel: Path | None = None) -> dict:
+    """Build one assignment and make the notebooks to grade: its solution, its blank student
+    notebook, and each submission made from ``extra`` ({label: answers}, see :func:`fill_in`; e.g. a
+    plausible wrong one). Returns {"name", "paths", "submissions": {label: notebook}, "seconds"}."""
     t0 = time.perf_counter()
     paths = build(name, out, root, wheel)
     subs = {"solution": paths["solution"], "blank": paths["student"]}
     for label, answers in (extra or {}).items():
         subs[label] = fill_in(paths["student"], answers, Path(out) / name / "submissions" / f"{label}.ipynb")
+    return {"name": name, "paths": paths, "submissions": subs, "seconds": time.perf_counter() - t0}
+
+
+def grade_submissions(built: dict, out: Path = OUT, python=None) -> dict:
+    """Grade every notebook of ``built`` (:func:`build_submissions`); ``python(paths)``: the
+    interpreter that grades (see :func:`grade`), given the built paths. Returns ``built`` with
+    "grades" ({label: grade}) and "python" added, "seconds" the build's and the gradings' time."""
+    t0 = time.perf_counter()
+    name, paths = built["name"], built["paths"]
     exe = python(paths) if python else None
-    grades = {label: grade(nb, paths["autograder"], Path(out) / name / "graded" / label, exe) for label, nb in subs.items()}
-    return {"name": name, "paths": paths, "grades": grades, "python": exe or sys.executable,
-            "seconds": time.perf_counter() - t0}
+    grades = {label: grade(nb, paths["autograder"], Path(out) / name / "graded" / label, exe)
+              for label, nb in built["submissions"].items()}
+    return {**built, "grades": grades, "python": exe or sys.executable,
+            "seconds": built["seconds"] + time.perf_counter() - t0}
+
+
+def build_and_grade(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None,
+                    wheel: Path | None = None, python=None) -> dict:
+    """Build one assignment, then grade its solution notebook, its blank student notebook, and each
+    submission made from ``extra`` (:func:`build_submissions`, :func:`grade_submissions`)."""
+    return grade_submissions(build_submissions(name, out, root, extra, wheel), out, python)
 
 
 def line(result: dict) -> str:
@@ -359,14 +376,20 @@ def ok(result: dict) -> bool:
     return s["points"] > 0 and s["score"] == s["points"] and b["score"] < b["points"]
 
 
-def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None, python=None) -> list[dict]:
-    """Build and grade every assignment (``workers`` at a time; one orrc wheel for all);
+def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None, python=None,
+            on_built=None) -> list[dict]:
+    """Build every assignment, then grade them all (``workers`` at a time; one orrc wheel for all);
     ``extra(name)`` gives more notebooks to grade, ``python`` the interpreter that grades (see
-    :func:`build_and_grade`)."""
+    :func:`build_and_grade`). ``on_built(built)`` is called with every assignment's
+    :func:`build_submissions` result once all are built, before the first grading, so that work
+    which needs the built notebooks only (not their grades) can start beside the gradings."""
     wheel = autograder_env.build_wheel(Path(out) / "_wheel")
     with ThreadPoolExecutor(max_workers=workers) as pool:
-        return list(pool.map(lambda n: build_and_grade(n, out, root, extra(n) if extra else None, wheel, python),
-                             names(root)))
+        built = list(pool.map(lambda n: build_submissions(n, out, root, extra(n) if extra else None, wheel),
+                              names(root)))
+        if on_built is not None:
+            on_built(built)
+        return list(pool.map(lambda b: grade_submissions(b, out, python), built))
 
 
 def summary(results: list[dict]) -> tuple[str, int]:

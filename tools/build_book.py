@@ -66,8 +66,26 @@ def html_dir(out: Path) -> Path:
     return Path(out) / "_build" / "html"
 
 
-def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT) -> int:
+def kernel_for(python: Path, folder: Path) -> Path:
+    """A Jupyter data folder in ``folder`` whose kernel ``python3`` (the name every chapter asks for)
+    runs ``python`` with nothing of this checkout on its path; put first on ``JUPYTER_PATH``, it
+    takes the place of the build environment's own kernel."""
+    spec = Path(folder) / "kernels" / "python3"
+    spec.mkdir(parents=True, exist_ok=True)
+    (spec / "kernel.json").write_text(json.dumps({
+        "argv": [str(python), "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+        "display_name": "Python 3 (orrc)", "language": "python",
+        "env": {"PYTHONPATH": ""}}, indent=1))
+    return Path(folder)
+
+
+def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT,
+          kernel_python: Path | None = None) -> int:
     """Build the book in ``source`` into ``out/_build``; return jupyter-book's exit code.
+
+    ``kernel_python``: the Python whose kernel executes the chapters (default: this environment's),
+    e.g. that of a fresh environment built from what a chapter's download installs; each chapter
+    runs in a temporary folder (``run_in_temp`` in ``_config.yml``) either way.
 
     A test-size build (``ORRC_QUICK`` set in the environment or in ``extra_env``) into the
     published folder ``_build/html`` is refused (ValueError): that folder holds the full book only.
@@ -81,6 +99,9 @@ def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT) 
     if is_quick(env) and html_dir(out).resolve() == PUBLISHED_HTML.resolve():
         raise ValueError(f"a test-size build (ORRC_QUICK={env['ORRC_QUICK']!r}) must not be written to "
                          f"{PUBLISHED_HTML}, which holds the full book; build it into {TEST_OUT} instead")
+    if kernel_python is not None:
+        data = kernel_for(kernel_python, Path(out) / "_build" / "kernel")
+        env["JUPYTER_PATH"] = os.pathsep.join(p for p in (str(data), env.get("JUPYTER_PATH", "")) if p)
     stamp = Path(out) / "_build" / STAMP
     stamp.unlink(missing_ok=True)
     shutil.rmtree(Path(out) / "_build" / CACHE, ignore_errors=True)  # never a stale output

@@ -275,6 +275,28 @@ def portable_source(code: str) -> str:
     return "\n".join(lines)
 
 
+#: the roles that a front end reading one notebook, with no bibliography, cannot resolve (JupyterLab
+#: with jupyterlab-myst): citations, references to other pages' targets, API names
+LAB_ROLES = re.compile(r"^(cite(:\w+)?|ref|numref|doc|eq|prf:ref|py:\w+)$")
+
+
+def role_texts(nb: nbformat.NotebookNode, resolved: Resolved) -> dict[str, str]:
+    """``{role as written: the text the HTML shows}`` for every citation, reference and API role
+    (:data:`LAB_ROLES`) in the Markdown cells of the chapter ``nb``, outside code blocks; a role that
+    ``resolved`` cannot turn into text is left out. ``make lab`` shows these texts
+    (tools/lab_contents.py)."""
+    markdown = "\n".join(c.source for c in nb.cells if c.cell_type == "markdown")
+    renderer = _Renderer(resolved, _keyprefix(markdown))
+    out = {}
+    for m in ROLE.finditer(CODE_BLOCK.sub("", markdown)):
+        if m.group("role") and LAB_ROLES.match(m.group("role")) and m.group(0) not in out:
+            try:
+                out[m.group(0)] = renderer.role(m)
+            except UnresolvedError:
+                continue
+    return out
+
+
 def reader_cells(nb: nbformat.NotebookNode) -> list[nbformat.NotebookNode]:
     """The cells a reader sees on the page, in order: Markdown, and the code cells not tagged
     ``remove-cell``."""

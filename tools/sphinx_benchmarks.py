@@ -40,7 +40,17 @@ TITLES = {
     "comparison": "The comparison chapter's table",
     "minmax": "The min-max problem of Algorithm 3",
     "widgets": "The explorers in a live kernel",
+    "scaling": "How a closed-loop step grows with the horizon and the state dimension",
+    "scaling_lq": "The exact linear-quadratic path as the state dimension grows",
+    "structure": "A structure-exploiting QP solver inside SQP",
 }
+
+#: the modules drawn as time per step against a size (log-log, one line per tool, its fitted exponent)
+SCALING = {"scaling", "scaling_lq"}
+_TOOL_LABELS = {"orrc": "orrc", "bare": "bare CasADi loop", "acados": "acados SQP", "acados_rti": "acados RTI",
+                "dompc": "do-mpc", "numpy": "numpy Riccati loop"}
+_TOOL_STYLE = {"orrc": ("#1f6fb4", "o", "-"), "bare": ("#555555", "s", "--"), "acados": ("#d9822b", "^", "-"),
+               "acados_rti": ("#d9822b", "v", ":"), "dompc": ("#2e8b57", "D", "-."), "numpy": ("#d9822b", "^", "-")}
 
 
 class BenchmarksError(ValueError):
@@ -92,6 +102,8 @@ def figure(module: str, rows: list[dict], width: float = 7.4):
     width as well as a laptop's); None when no row states a time."""
     from matplotlib.figure import Figure
 
+    if module in SCALING:
+        return scaling_figure(module, rows, width)
     timed = [r for r in rows if r.get("orrc_seconds")]
     if not timed:
         return None
@@ -122,6 +134,53 @@ def figure(module: str, rows: list[dict], width: float = 7.4):
     return fig
 
 
+def scaling_series(rows: list[dict]) -> dict:
+    """{grid: (size name, {tool: [(size, CPU seconds per step)]}, {tool: growth exponent})} from the rows of
+    ``benchmarks/scaling.py`` or ``benchmarks/scaling_lq.py`` (their ``data``)."""
+    out: dict = {}
+    for r in rows:
+        d = r.get("data") or {}
+        if "grid" not in d:
+            continue
+        name = "n" if (d["grid"] == "lq" or "n grows" in d["grid"]) else "M"
+        _, series, slopes = out.setdefault(d["grid"], (name, {}, {}))
+        if "exponents" in d:
+            slopes.update(d["exponents"])
+        elif "t_orrc" in d:
+            if d["size"] not in [s for s, _ in series.get("orrc", [])]:
+                series.setdefault("orrc", []).append((d["size"], d["t_orrc"]))
+            series.setdefault(d.get("tool", "numpy"), []).append((d["size"], d["t_peer"]))
+    return out
+
+
+def scaling_figure(module: str, rows: list[dict], width: float = 7.4):
+    """CPU time per closed-loop step against the size of each grid, log-log, a line per tool with its fitted
+    growth exponent in the legend; None when no row states a time."""
+    from matplotlib.figure import Figure
+
+    grids = scaling_series(rows)
+    if not grids:
+        return None
+    narrow = width < 5
+    cols = 1 if narrow else len(grids)
+    fig = Figure(figsize=(width, (3.6 if narrow else 4.2) * (len(grids) if narrow else 1) + 0.8))
+    axes = fig.subplots(len(grids) if narrow else 1, cols, squeeze=False).ravel()
+    for ax, (grid, (name, series, slopes)) in zip(axes, grids.items()):
+        for tool, pts in series.items():
+            pts = sorted(pts)
+            color, marker, line = _TOOL_STYLE.get(tool, ("#000000", "x", "-"))
+            slope = f", exponent {slopes[tool]:.2f}" if tool in slopes else ""
+            ax.loglog([p for p, _ in pts], [t for _, t in pts], marker=marker, linestyle=line, color=color,
+                      label=f"{_TOOL_LABELS.get(tool, tool)}{slope}")
+        ax.set_xlabel(f"{name} (log scale)")
+        ax.set_ylabel("CPU time per step (s), log scale")
+        ax.set_title(textwrap.fill("exact LQ path, n grows" if grid == "lq" else grid, 40), fontsize=10)
+        ax.legend(fontsize=8)
+    fig.suptitle(textwrap.fill(TITLES.get(module, module), int(6.5 * width)))
+    fig.set_layout_engine("constrained")
+    return fig
+
+
 def figure_html(module: str, rows: list[dict]) -> str | None:
     """Both renderings of :func:`figure` (a laptop's and a phone's width) in one ``div.orrc-figure``, with
     the text alternative written from the figure; None when the benchmark states no time."""
@@ -148,6 +207,32 @@ def _distinct(benchmark: str, all_benchmarks: list[str]) -> str:
     """What sets ``benchmark`` apart from the others of its module: the text after their common prefix."""
     prefix = os.path.commonprefix(sorted(set(all_benchmarks)))
     return benchmark[len(prefix):].strip(" ,()") or benchmark
+
+
+def missed(rows: list[dict]) -> list[str]:
+    """reStructuredText lines: a bullet per row whose target was missed, with its measured ratio, the target
+    and what the row measured beside it (its correctness check: the solvers each tool's steps took, the
+    iterations); nothing when every target was met."""
+    out = [f"- {_cell(r['case'])}: {_cell(r['ratio'])} (target {_cell(r['target'])}); {_cell(r.get('check', ''))}"
+           + _floor(r, rows) for r in rows if r.get("ok") is False]
+    return ["Targets missed, by how much, and what was measured beside them:", "", *out, ""] if out else []
+
+
+def _floor(row: dict, rows: list[dict]) -> str:
+    """For a scaling row against a peer: the bare CasADi loop's time at the same point (the floor of any code
+    calling orrc's NLP), so that a reader sees whether the gap is orrc's own work or the NLP solver's."""
+    d = row.get("data") or {}
+    if "grid" not in d or d.get("tool") in (None, "bare"):
+        return ""
+    same = [r for r in rows if (r.get("data") or {}).get("grid") == d["grid"] and r["data"].get("size") == d["size"]
+            and r["data"].get("tool") == "bare"]
+    if not same:
+        return ""
+    bare = same[0]["data"]
+    if "t_peer" not in bare:
+        return f"; the bare CasADi loop at this point: {_cell(bare.get('skipped', 'not run'))}"
+    return (f"; the bare CasADi loop on the same NLP at this point: {_cell(same[0]['peer'])}, "
+            f"{bare['t_peer'] / d['t_peer']:.2f}× {_cell(row['case'].split(' vs ')[-1])}")
 
 
 class OrrcBenchmarks(Directive):
@@ -193,6 +278,7 @@ class OrrcBenchmarks(Directive):
             judged = sum(r.get("ok") is not None for r in rows)
             rst += [f"{len(rows)} row(s); {met} of {judged} target(s) met." if judged else
                     f"{len(rows)} row(s), none with a target.", ""]
+            rst += missed(rows)
         rst += [".. rubric:: The whole table", ""]
         rst += _list_table(["benchmark", "case", "orrc (median)", "peer (median)", "ratio", "target", "met",
                             "correctness check"],

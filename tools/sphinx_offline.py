@@ -25,6 +25,7 @@ Loaded by ``_config.yml`` (``sphinx: local_extensions: {sphinx_offline: tools}``
 """
 from __future__ import annotations
 
+import json
 import re
 import shutil
 from importlib import metadata
@@ -38,9 +39,9 @@ from sphinx.util import logging
 # loaded by Sphinx as the top-level module ``sphinx_offline`` (local_extensions puts tools/ on the
 # path), imported by the tests as ``tools.sphinx_offline``
 if __package__:
-    from .download import Resolved, UnresolvedError, portable_source, reader_notebook
+    from .download import Resolved, UnresolvedError, portable_source, reader_notebook, role_texts
 else:
-    from download import Resolved, UnresolvedError, portable_source, reader_notebook
+    from download import Resolved, UnresolvedError, portable_source, reader_notebook, role_texts
 
 logger = logging.getLogger(__name__)
 
@@ -353,8 +354,14 @@ def notebook_download(app: Sphinx, pagename, templatename, context, doctree) -> 
     nb = jupytext.reads(source.read_text(encoding="utf-8"), fmt="md:myst")
     if not nb.metadata.get("kernelspec"):
         return  # a plain Markdown page (e.g. book/execution.md), not a notebook
+    known = resolved(app, pagename)
+    # the texts of the page's citations and references, for make lab (tools/lab_contents.py), beside
+    # the glued values myst-nb writes (_build/jupyter_execute/<page>.glue.json)
+    roles = Path(app.outdir).parent / "jupyter_execute" / f"{pagename}.roles.json"
+    roles.parent.mkdir(parents=True, exist_ok=True)
+    roles.write_text(json.dumps(role_texts(nb, known), indent=1, ensure_ascii=False), encoding="utf-8")
     try:
-        nb = reader_notebook(nb, resolved(app, pagename))
+        nb = reader_notebook(nb, known)
     except (UnresolvedError, ValueError) as exc:
         logger.warning(f"{pagename}.ipynb: {exc}", location=pagename)
         return

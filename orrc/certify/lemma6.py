@@ -58,10 +58,37 @@ __all__ = ["Lemma6Case", "Lemma6Search", "lemma6_case", "lemma6_search", "lemma6
 
 
 def lemma6_problem(n: int, M, seed):
-    """A random problem of the search (system, cost, W) for state dimension n: A with spectral radius
-    uniform in [0.2, 3] (a random sign for n = 1), B log-uniform in [0.2, 2] in magnitude (one input),
-    Q = diag(log-uniform [0.1, 10]), R log-uniform in [10⁻³, 10³], W a box with lo_i in [-1, 0],
-    hi_i in [0, 1] (for n = 1, one box in five lies on one side of 0)."""
+    """A random problem of the search for counterexamples to the inequality of Lemma 6 (Appendix D):
+    x⁺ = A x + B u + w, c = xᵀQx + uᵀRu, w in a box W.
+
+    A has spectral radius uniform in [0.2, 3] (a random sign for n = 1), B log-uniform in [0.2, 2] in
+    magnitude (one input), Q = diag(log-uniform [0.1, 10]), R log-uniform in [10⁻³, 10³], W a box with
+    lo_i in [-1, 0], hi_i in [0, 1] (for n = 1, one box in five lies on one side of 0).
+
+    Parameters
+    ----------
+    n : int
+        The state dimension, 1 or 2.
+    M : int
+        The horizon of the case the problem is drawn for; the draw does not depend on it.
+    seed : int, numpy.random.Generator or None
+        The seed of the draw (or a generator to draw from).
+
+    Returns
+    -------
+    tuple of (LinearSystem, QuadraticCost, Box)
+        The system, the cost and W.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.certify import lemma6_problem
+    >>> system, cost, W = lemma6_problem(1, 3, seed=0)
+    >>> bool(0.2 <= abs(system.A[0, 0]) <= 3 and 0.2 <= abs(system.B[0, 0]) <= 2)
+    True
+    >>> bool(np.all(W.lo < W.hi))
+    True
+    """
     n = as_int("n", n, minimum=1, maximum=2)
     rng = _rng(seed)
     rho = rng.uniform(0.2, 3.0)
@@ -92,11 +119,44 @@ def _search_run(problem, seed, n, Ms, n_x, n_angles, n_pairs, x_span, policy="op
 
 @dataclass(repr=False)
 class Lemma6Search:
-    """The result of :func:`lemma6_search`: ``cases`` (one :class:`Lemma6Case` per problem, in draw
-    order), ``table`` (the :class:`orrc.sweep.Table` of the runs), and the summary: ``ratio`` (the
-    largest r over all problems), ``worst`` (its case), ``ratio_above`` (the largest r among the
-    problems whose worst pair is above Theorem 3's horizon threshold, nan if none), ``points`` and
-    ``solves`` (totals), ``counterexamples`` (the cases with r > 1)."""
+    """The result of :func:`lemma6_search`, a search for counterexamples to the inequality of Lemma 6
+    (Appendix D) over random problems.
+
+    Attributes
+    ----------
+    n : int
+        The state dimension of the problems.
+    cases : list of Lemma6Case
+        One :class:`Lemma6Case` per problem, in draw order.
+    table : orrc.sweep.Table
+        The table of the runs.
+    ratio : float
+        The largest r over all problems (r > 1: a counterexample).
+    worst : Lemma6Case
+        The case of that ratio.
+    ratio_above : float
+        The largest r among the problems whose worst pair is above Theorem 3's horizon threshold, nan
+        if none.
+    points, solves : int
+        The states tried and the exact min-max solves, in total.
+    counterexamples : list of Lemma6Case
+        The cases with r > 1.
+
+    Examples
+    --------
+    The summary of a small search (:func:`lemma6_search`), read from its cases:
+
+    >>> import math
+    >>> from orrc import certify
+    >>> search = certify.lemma6_search(n=1, n_problems=2, M=2, n_x=3, n_angles=4, n_pairs=5,
+    ...                                backend="serial")
+    >>> search.worst is max(search.cases, key=lambda case: case.ratio)
+    True
+    >>> search.points == sum(case.points for case in search.cases)
+    True
+    >>> math.isnan(search.ratio_above)       # no problem is above Theorem 3's threshold
+    True
+    """
 
     n: int
     cases: list
@@ -149,6 +209,23 @@ def lemma6_search(n: int = 1, n_problems: int = 8, M=(2, 3, 4, 6), n_x: int = 20
     policy : "open-loop" (Algorithm 3 as written) or "feedback" (feedback min-max RHC).
 
     The size (problems × states × solves × vertex sequences) is estimated and checked first.
+
+    Returns
+    -------
+    Lemma6Search
+        The cases and their summary: the largest ratio r, the worst case, the counterexamples.
+
+    Examples
+    --------
+    Two problems at M = 2 on a coarse grid (a real search uses the defaults):
+
+    >>> from orrc import certify
+    >>> search = certify.lemma6_search(n=1, n_problems=2, M=2, n_x=3, n_angles=4, n_pairs=5,
+    ...                                backend="serial")
+    >>> len(search.cases), search.points, search.solves
+    (2, 76, 228)
+    >>> bool(search.ratio == search.worst.ratio <= 1), search.counterexamples
+    (True, [])
     """
     n = as_int("n", n, minimum=1, maximum=2)
     if policy not in ("open-loop", "feedback"):

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._validate import OrrcValueError, as_float, as_int
 from ..costs import QuadraticCost
-from ..disturbances import Box
+from ..disturbances import Box, Polytope
 from ..solvers import lq
 from ..solvers.minmax import VertexEpigraph, check_set
 from ..systems import LinearSystem
@@ -141,11 +141,12 @@ class RobustPreviewRHC(Controller):
 
     and u_t = ũ_0. E = {0} gives Algorithm 1 on the forecast; a zero forecast and E = W give
     Algorithm 3 (:class:`~orrc.MinMaxRHC`, open loop). Exact for a linear system, a convex
-    quadratic cost and a box E: the state is augmented with the forecast window (a shift register),
+    quadratic cost and a box or a polytope E (the worst case sits at its vertices): the state is augmented with the forecast window (a shift register),
     so that the problem is Algorithm 3's exact vertex epigraph
     (:class:`orrc.solvers.minmax.VertexEpigraph`) on the augmented system, with the error box on the
-    state's coordinates and nothing on the register's. Its size is that of Algorithm 3: (2^n)^(M-1)
-    vertex sequences, estimated and refused past ``orrc.config``'s limits.
+    state's coordinates and nothing on the register's. Its size is that of Algorithm 3: V^(M-1)
+    vertex sequences (V = 2^n for a box, the number of given points for a polytope), estimated and
+    refused past ``orrc.config``'s limits.
 
     Parameters
     ----------
@@ -153,8 +154,8 @@ class RobustPreviewRHC(Controller):
     cost : QuadraticCost
     M : int
         The horizon, M >= 1.
-    E : Box
-        The forecast's error set (a box; ``Box(0, 0, n)`` for an exact forecast).
+    E : Box or Polytope
+        The forecast's error set (``Box(0, 0, n)`` for an exact forecast).
     input_bounds : (lo, hi), optional
 
     Returns
@@ -176,14 +177,14 @@ class RobustPreviewRHC(Controller):
     True
     """
 
-    def __init__(self, system: LinearSystem, cost: QuadraticCost, M: int, E: Box, input_bounds=None):
+    def __init__(self, system: LinearSystem, cost: QuadraticCost, M: int, E: Box | Polytope, input_bounds=None):
         _check_lq("RobustPreviewRHC", system, cost)
         self.M = as_int("M", M, minimum=1)
-        if not isinstance(E, Box):
-            raise OrrcValueError(f"E must be an orrc.Box (the forecast's error set; a ball has no vertices for the "
-                                 f"exact robust preview); got {type(E).__name__}")
+        if not isinstance(E, (Box, Polytope)):
+            raise OrrcValueError(f"E must be an orrc.Box or an orrc.Polytope (the forecast's error set; a ball has no "
+                                 f"vertices for the exact robust preview); got {type(E).__name__}")
         if E.n != system.n:
-            raise OrrcValueError(f"E must have the state dimension n={system.n} (the error adds to w_t); got a box "
+            raise OrrcValueError(f"E must have the state dimension n={system.n} (the error adds to w_t); got a set "
                                  f"in R^{E.n}")
         E = check_set(E, system.n)
         n, m, M = system.n, system.m, self.M
@@ -199,9 +200,14 @@ class RobustPreviewRHC(Controller):
         Q[:n, :n] = cost.Q
         self._aug = LinearSystem(A, Bx)
         self._aug_cost = QuadraticCost(Q, cost.R, alpha_lo=0.0)
-        lo, hi = np.zeros(N), np.zeros(N)
-        lo[:n], hi[:n] = E.lo, E.hi
-        self._solver = VertexEpigraph(self._aug, self._aug_cost, M, Box(lo, hi), input_bounds=input_bounds)
+        if isinstance(E, Box):   # the error on the state's coordinates, nothing on the register's
+            lo, hi = np.zeros(N), np.zeros(N)
+            lo[:n], hi[:n] = E.lo, E.hi
+            E_aug = Box(lo, hi)
+        else:
+            V = E.vertices()
+            E_aug = Polytope(np.hstack([V, np.zeros((len(V), N - n))]))
+        self._solver = VertexEpigraph(self._aug, self._aug_cost, M, E_aug, input_bounds=input_bounds)
         self.system, self.cost, self.E = system, cost, E
         self.preview_w = M
         self.name = f"robust preview RHC (M={M})"

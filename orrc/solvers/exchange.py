@@ -71,7 +71,8 @@ _IPOPT = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt
 
 
 class ScenarioExchange:
-    """Scenario exchange for min_U max_{W ∈ W^M} J(x, U, W) (see the module docstring).
+    """Scenario exchange for the min-max problem of Algorithm 3, Eq. (D.1):
+    V_{W,M}(x) = min_U max_{W ∈ W^M} J(x, U, W) (see the module docstring).
 
     Parameters
     ----------
@@ -83,7 +84,28 @@ class ScenarioExchange:
     n_starts : starts of the inner multi-start ascent.
     max_scenarios : the most scenarios kept in the outer problem.
     solver : "sqpmethod" (DAQP QPs; default) or "ipopt", for the outer problem.
+    solver_options : options added to that solver's (a dict), or None.
     seed : seed of the random starts (each solve draws them afresh from it: deterministic).
+    fw_iter : the most conditional-gradient steps of one inner ascent.
+    verify_factor : the wider search that confirms convergence uses ``verify_factor * n_starts`` starts.
+
+    Examples
+    --------
+    x⁺ = x + u + w, c = x² + 0.1u², W = [-0.5, 0.5], M = 3: a linear system with a convex cost, so
+    the exchange closes its gap, and its value is the exact one of the vertex method:
+
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc.solvers.exchange import ScenarioExchange
+    >>> system, cost = orrc.LinearSystem([[1.0]], [[1.0]]), orrc.QuadraticCost([[1.0]], [[0.1]])
+    >>> W = orrc.Box([-0.5], [0.5])
+    >>> exchange = ScenarioExchange(system, cost, 3, W)
+    >>> plan = exchange.solve(np.ones(1), np.broadcast_to(cost.default_params, (3, cost.n_params)))
+    >>> bool(plan.success and plan.upper - plan.lower <= 1e-6 * plan.upper)
+    True
+    >>> exact = orrc.MinMaxRHC(system, cost, 3, W, method="exact").plan(np.ones(1))
+    >>> bool(abs(plan.value - exact.value) <= 1e-6 * exact.value)
+    True
     """
 
     def __init__(self, system, cost, M: int, W, input_bounds=None, rtol: float = 1e-6, atol: float = 1e-10,
@@ -293,9 +315,30 @@ class ScenarioExchange:
         return all(np.max(np.abs(W[:-1] - s[:-1]), initial=0.0) > 1e-9 * self.scale for s in S)
 
     def solve(self, x, P, guess_U=None, scenarios=None) -> MinMaxPlan:
-        """min_U max_W J(x, U, W) with cost parameters P (M, n_params). ``guess_U`` (M, m) and
-        ``scenarios`` (k, M, n) warm-start the plan and the scenario set (e.g. the previous step's,
-        shifted one stage); both only speed it up."""
+        """Solve Eq. (D.1), min_U max_W J(x, U, W), from state x by scenario exchange.
+
+        Parameters
+        ----------
+        x : ndarray
+            The state (n,).
+        P : ndarray
+            The cost parameters of the M stages, (M, n_params).
+        guess_U : ndarray, optional
+            A guess of the plan, (M, m) (clipped to the input bounds).
+        scenarios : ndarray, optional
+            Disturbance sequences (k, M, n) that start the scenario set. With ``guess_U``, e.g. the
+            previous step's, shifted one stage: both only speed the solve up.
+
+        Returns
+        -------
+        MinMaxPlan
+            The plan with the smallest upper bound found, its worst disturbance sequence, the bounds
+            ``lower`` and ``upper`` and the exchange's report (``success`` False after ``max_iter``).
+
+        Examples
+        --------
+        See :class:`ScenarioExchange`.
+        """
         t0 = time.perf_counter()
         M, m = self.M, self.m
         rng = np.random.default_rng(self.seed)

@@ -47,7 +47,7 @@ from .._validate import OrrcValueError, check_size
 from ..disturbances import Ball, Box, Polytope
 from .plan import Plan
 
-__all__ = ["MinMaxPlan", "VertexEpigraph", "check_set", "vertex_count", "AUTO_EXACT_LIMIT"]
+__all__ = ["MinMaxPlan", "VertexEpigraph", "check_set", "set_vertices", "vertex_count", "AUTO_EXACT_LIMIT"]
 
 AUTO_EXACT_LIMIT = 2 ** 14
 
@@ -136,11 +136,46 @@ def _box_vertices(W: Box) -> np.ndarray:
                     dtype=float)
 
 
-def vertex_count(W: Box, M: int) -> int | float:
+def set_vertices(W) -> np.ndarray:
+    """The vertices of a box (its distinct corners: coordinates with lo = hi contribute one value)
+    or of a polytope (the points it was given), as rows; call it on a box only after a size check
+    (:func:`vertex_count`). The worst case of a convex cost over W sits at these points.
+
+    Parameters
+    ----------
+    W : Box or Polytope
+
+    Returns
+    -------
+    ndarray, shape (V, n)
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.solvers.minmax import set_vertices
+    >>> set_vertices(orrc.Box([-1.0, 0.0], [1.0, 0.0])).tolist()
+    [[-1.0, 0.0], [1.0, 0.0]]
+    """
+    if isinstance(W, Box):
+        return _box_vertices(W)
+    if isinstance(W, Polytope):
+        return W.vertices()
+    raise OrrcValueError(f"W must be an orrc.Box or an orrc.Polytope (a polytope, so that the worst case of a convex "
+                         f"cost sits at its vertices); got {type(W).__name__}")
+
+
+def vertex_count(W, M: int) -> int | float:
     """N = V^{M-1}: the vertex sequences (w_0..w_{M-2}) the exact method enumerates (V = the
-    distinct vertices of the box W, 2^n for a full-dimensional one), counted without listing them:
-    an exact integer up to 2^62, beyond it a float (``inf`` past the float range), so that a long
-    horizon costs nothing to count (2^(M-1) as an integer takes seconds to build and to print)."""
+    distinct vertices of the box W, 2^n for a full-dimensional one, or the points a polytope was
+    given), counted without listing them: an exact integer up to 2^62, beyond it a float (``inf``
+    past the float range), so that a long horizon costs nothing to count (2^(M-1) as an integer
+    takes seconds to build and to print)."""
+    if isinstance(W, Polytope):
+        V = len(W.vertices())
+        bits = (M - 1) * math.log2(V) if V > 1 else 0.0
+        if bits <= 62:
+            return V ** (M - 1)
+        return 2.0 ** bits if bits < 1024 else math.inf
     bits = int(np.count_nonzero(W.lo < W.hi)) * (M - 1)
     if bits <= 62:
         return 2 ** bits
@@ -196,7 +231,8 @@ class _WorkingSetQP:
 
 
 class VertexEpigraph:
-    """The exact min-max value for x_{j+1} = A x_j + B u_j + w_j, c = xᵀQ_jx + uᵀR_ju, W a box.
+    """The exact min-max value for x_{j+1} = A x_j + B u_j + w_j, c = xᵀQ_jx + uᵀR_ju, W a box
+    or a polytope.
 
     With the condensed prediction X = Φx + G_u U + G_w W (stages 0..M-1) and Q̄ = diag(Q_j),
     R̄ = diag(R_j), J(U, W) = (X)ᵀQ̄X + UᵀR̄U = UᵀHU + 2 g(W)ᵀU + k(W), H = G_uᵀQ̄G_u + R̄,
@@ -205,22 +241,24 @@ class VertexEpigraph:
         V_{W,M}(x) = min_U UᵀHU + max_v (2 g_vᵀU + k_v)        (v over the vertex sequences)
 
     is the QP  min_{U,s} UᵀHU + s  s.t.  2 g_vᵀU + k_v <= s  (and the input bounds), exact
-    because a convex function's maximum over a box is attained at a vertex. See the module
+    because a convex function's maximum over a box or a polytope is attained at a vertex. See the module
     docstring for the sizes: the tables' memory and the operations of the construction and of
     ten constraint-generation rounds are estimated and checked first (``check_size``).
     """
 
-    def __init__(self, system, cost, M: int, W: Box, input_bounds=None, rtol: float = 1e-9, max_rounds: int = 200):
+    def __init__(self, system, cost, M: int, W: Box | Polytope, input_bounds=None, rtol: float = 1e-9,
+                 max_rounds: int = 200):
         self.M, self.n, self.m = M, system.n, system.m
         n, m = self.n, self.m
-        V = 2 ** int(np.count_nonzero(W.lo < W.hi))
+        verts = set_vertices(W) if isinstance(W, Polytope) else None
+        V = len(verts) if verts is not None else 2 ** int(np.count_nonzero(W.lo < W.hi))
         N = vertex_count(W, M)
         width = M * n + M * m + 2
         count = str(N) if isinstance(N, int) else f"{N:.3g}"
         check_size(f"the exact min-max method at M={M}, n={n}: N = {V}^(M-1) = {count} vertex sequences",
                    nbytes=8.0 * N * (width + M * n), ops=float(N) * (M * n) ** 2 + 10.0 * 4 * N * width,
                    hint="use method='exchange' (scenario exchange), or a shorter horizon M")
-        verts = _box_vertices(W)
+        verts = set_vertices(W) if verts is None else verts
         self.N, self.W, self.verts = N, W, verts
         self.A, self.B, self.cost = system.A, system.B, cost
         self.Phi, self.Gu, self.Gw = condensed(system.A, system.B, M)

@@ -17,7 +17,10 @@ f(·; θ̂), and a new estimate θ̂ is a new parameter value, not a new solver.
   a backtracking line search on an l1 merit function, and stopping tolerances of 1e-8 on the
   stationarity and feasibility residuals. Each iteration is one small sparse QP, and a warm
   start near the optimum converges in one or two iterations (0.1-0.3 ms for the pendulum at
-  M = 20, against 2-5 ms for IPOPT, whose fixed cost per call is most of its time).
+  M = 20, against 2-5 ms for IPOPT, whose fixed cost per call is most of its time). From the horizon
+  :data:`~orrc.solvers.nlp_solvers.HPIPM_FROM` on, the QP solver is HPIPM instead, a Riccati recursion whose
+  work grows linearly with M (the variables are then in stage order, ũ_0, x̃_1, ũ_1, ...; the checks below
+  read them in either order).
 * ``"ipopt"`` -- the interior-point solver IPOPT (tolerance 1e-9): slower per call, but it
   globalises with a filter line search and a restoration phase. Used as the fallback when SQP
   fails, and alone with ``PreviewRHC(..., solver="ipopt")``.
@@ -60,7 +63,8 @@ from .._casadi import Buffered, DropsBuffers, buffered
 from .._jit import COMPILE_AFTER, COUNTER_CHECKS, Compiled, compiled_function, compiled_nlpsol
 from .._validate import OrrcValueError, check_size
 from .nlp_solvers import (DEFAULT_IPOPT, DEFAULT_SQP, IPOPT, NLP_SOLVERS, OPTION_PREFIX, SOLVER_LABELS,  # noqa: F401
-                          SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _split_options)
+                          SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _split_options,
+                          structured_qpsol)
 from ..systems import System
 from ..costs import StageCost
 from .acceptance import ACCEPT_ATOL, ACCEPT_RTOL, acceptance_function, rejection  # noqa: F401  (importable here)
@@ -69,6 +73,28 @@ from .plan import Plan, SolverWarning  # noqa: F401  (SolverWarning: importable 
 #: operations per node of the transcribed expression graph (build and IPOPT set-up), measured
 #: on the pendulum: about 1 ms per shooting interval of about 25 nodes
 _OPS_PER_NODE = 4e4
+
+def _reordered(acceptance: ca.Function, order, iu) -> ca.Function:
+    """The acceptance checks (written for z = [vec U; x̃_1..x̃_M]) on a solver whose variables are z[order]:
+    the answer and its bound multipliers permuted back, the guess's inputs read at ``iu`` of the guess's z, and
+    the shifted answer given in the solver's order (the same operations on the same numbers)."""
+    ins = [ca.SX.sym(acceptance.name_in(i), acceptance.size_in(i)) for i in range(acceptance.n_in())]
+    inverse = np.argsort(order)
+    zs, gs, lam_x, lam_g, ps, z_guess, J = ins
+    z_guess = ca.SX.sym("z_guess", zs.numel())
+    out, shifted = acceptance(zs[inverse.tolist()], gs, lam_x[inverse.tolist()], lam_g, ps, z_guess[np.asarray(iu).tolist()], J)
+    return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, z_guess, J], [out, shifted[order.tolist()]])
+
+
+def _stats(call: Buffered) -> dict:
+    """The solver's statistics of its last solve; where CasADi cannot produce them (``sqpmethod`` stopped by an
+    internal error leaves its status unset, and reading it raises), an unsuccessful solve saying so."""
+    try:
+        return call.stats()
+    except RuntimeError as exc:
+        return {"success": False, "iter_count": 0,
+                "return_status": f"error: the solver stopped without a status ({_last_line(exc)})"}
+
 
 class ShootingNLP(DropsBuffers):
     """Multiple-shooting transcription of the M-step problem, built once, with its solvers.
@@ -116,28 +142,43 @@ class ShootingNLP(DropsBuffers):
         if terminal is not None:
             J += terminal(xj)
             J_roll += terminal(xr)
-        z = ca.vertcat(ca.vec(U), ca.vec(X))
-        p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp), theta)
-        problem = {"x": z, "f": J, "g": ca.vertcat(*g), "p": p}
-        self.problem = problem  # the transcription: z = [vec U; x̃_1..x̃_M], p = [x; vec W; vec P; θ], g = 0
         opts, unused = _split_options(solver_options, self.solvers)
         if unused:
             warnings.warn(f"solver_options {sorted(unused)} are ignored: they are for a solver this controller does "
                           f"not use (it uses {', '.join(SOLVER_LABELS[s] for s in self.solvers)})",
                           UserWarning, stacklevel=3)
+        #: the variables in stage order (ũ_0, x̃_1, ũ_1, x̃_2, ...), where SQP's QP solver needs it (HPIPM,
+        #: :func:`~orrc.solvers.nlp_solvers.structured_qpsol`); else z = [vec U; x̃_1..x̃_M]
+        self.stage_order = structured_qpsol(opts, solver_options, M, n, m)
+        nu = M * m
+        z = ca.vertcat(ca.vec(U), ca.vec(X))   # the variables in the order the checks and the shift are written in
+        if self.stage_order:
+            #: z_solver = z[order]; the inputs and states are at ``iu`` and ``ix`` of the solver's z
+            self.order = np.concatenate([np.r_[j * m:(j + 1) * m, nu + j * n:nu + (j + 1) * n] for j in range(M)])
+            inverse = np.argsort(self.order)
+            self.iu, self.ix = inverse[:nu], inverse[nu:]
+            zs = ca.vertcat(*[ca.vertcat(U[:, j], X[:, j]) for j in range(M)])
+        else:
+            self.order, self.iu, self.ix, zs = None, slice(0, nu), slice(nu, None), z
+        p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp), theta)
+        problem = {"x": zs, "f": J, "g": ca.vertcat(*g), "p": p}
+        self.problem = problem  # the transcription: z (above), p = [x; vec W; vec P; θ], g = 0
         self._nlpsol = {s: _nlpsol(s, problem, opts[s], solver_options) for s in self.solvers}
         self.solver_options = opts
         ulo, uhi = (np.full(m, -np.inf), np.full(m, np.inf)) if input_bounds is None else input_bounds
         xlo, xhi = (np.full(n, -np.inf), np.full(n, np.inf)) if state_bounds is None else state_bounds
-        self.lbz = np.concatenate([np.tile(ulo, M), np.tile(xlo, M)])
-        self.ubz = np.concatenate([np.tile(uhi, M), np.tile(xhi, M)])
+        lbz = np.concatenate([np.tile(ulo, M), np.tile(xlo, M)])
+        ubz = np.concatenate([np.tile(uhi, M), np.tile(xhi, M)])
+        self.lbz, self.ubz = (lbz, ubz) if self.order is None else (lbz[self.order], ubz[self.order])
         if SQP in self.solvers:
             self._rollout = ca.Function("rollout", [p, ca.vec(U)], [J_roll, ca.vertcat(*X_roll)])
-            nu = M * m   # the guess of the next step: z shifted by one step (its last input and state kept)
+            # the guess of the next step: z shifted by one step (its last input and state kept)
             shift = [*range(m, nu), *range(nu - m, nu), *range(nu + n, nu + M * n),
                      *range(nu + (M - 1) * n, nu + M * n)]
             self._acceptance = acceptance_function(z, problem["g"], p, ca.vec(U), J_roll, ca.vertcat(*X_roll),
-                                                    self.lbz, self.ubz, state_bounds is not None, shift)
+                                                    lbz, ubz, state_bounds is not None, shift)
+            if self.order is not None:   # the same checks on the solver's order (its answer, its guess)
+                self._acceptance = _reordered(self._acceptance, self.order, self.iu)
         #: SQP solves on this NLP (here and in :class:`~orrc.solvers.warm_sqp.WarmSQP`), and the compiled copies
         #: (:mod:`orrc._jit`) of the SQP solver and the acceptance checks, asked for after
         #: :data:`orrc._jit.COMPILE_AFTER` of them or by :meth:`compile`
@@ -220,8 +261,8 @@ class ShootingNLP(DropsBuffers):
         inputs, J) as views of this thread's SQP buffer: the solver's results, its parameters and the inputs of
         its initial guess, where the solver left them."""
         sqp = self._call(SQP)
-        return [sqp.res[0], sqp.res[2], sqp.res[3], sqp.res[4], sqp.args[1], sqp.args[0][: self.M * self.m],
-                sqp.res[1]]
+        guess = sqp.args[0] if self.stage_order else sqp.args[0][: self.M * self.m]   # (all of z: the checks pick)
+        return [sqp.res[0], sqp.res[2], sqp.res[3], sqp.res[4], sqp.args[1], guess, sqp.res[1]]
 
     @property
     def solver_name(self) -> str:
@@ -282,12 +323,12 @@ class ShootingNLP(DropsBuffers):
         if error:
             text = _last_line(error) if isinstance(error, Exception) else f"CasADi return code {error}"
             return Plan(inputs=guess_U.copy(), states=np.vstack([x, self._guess_states(x, guess_X)]), value=float("nan"),
-                        success=False, status=f"error: {text}", iterations=int(call.stats().get("iter_count", 0) or 0),
+                        success=False, status=f"error: {text}", iterations=int(_stats(call).get("iter_count", 0) or 0),
                         solve_time=elapsed, fallback="the initial guess (the solver raised an error)", solver=solver)
         if counter is not None and converged and call.counter_checks >= COUNTER_CHECKS:
             iterations, status, success = counter.value - before, SQP_SOLVED, True   # no statistics to read
         else:
-            stats = call.stats()
+            stats = _stats(call)
             iterations = int(stats.get("iter_count", 0) or 0)
             status = str(stats.get("return_status", "unknown"))
             success = bool(stats.get("success", False))
@@ -295,9 +336,9 @@ class ShootingNLP(DropsBuffers):
                 call.counter_checks, call.counter = ((call.counter_checks + 1, counter)
                                                      if counter.value - before == iterations else (0, None))
         zopt, value = call.res[0].copy(), float(call.res[1][0])
-        U = zopt[: M * m].reshape(M, m)
+        U = zopt[self.iu].reshape(M, m)
         X = np.empty((M + 1, n))
-        X[0], X[1:] = x, zopt[M * m:].reshape(M, n)
+        X[0], X[1:] = x, zopt[self.ix].reshape(M, n)
         extra = {"lam_x": call.res[3].copy(), "lam_g": call.res[4].copy()}  # the multipliers (bounds, dynamics)
         fallback = None
         finite = math.isfinite(value) and math.isfinite(zopt.sum())  # (the sum is inf or NaN if an entry is)
@@ -320,12 +361,8 @@ class ShootingNLP(DropsBuffers):
         """Write a solve's guess z0 = [vec U; x̃_1..x̃_M] in place: the inputs ``guess_U`` (M, m; None: the cold
         start's) and the states ``guess_X[1:]`` (x̃_0..x̃_M given; None: x held over the horizon, the cold
         start's, :meth:`cold_start`)."""
-        nu = self.M * self.m
-        z0[:nu] = (self._cold_U if guess_U is None else guess_U).reshape(-1)
-        if guess_X is None:
-            z0[nu:].reshape(self.M, self.n)[:] = x
-        else:
-            z0[nu:] = guess_X[1:].reshape(-1)
+        z0[self.iu] = (self._cold_U if guess_U is None else guess_U).reshape(-1)
+        z0[self.ix] = np.tile(x, self.M) if guess_X is None else guess_X[1:].reshape(-1)
 
     def _guess_states(self, x, guess_X) -> np.ndarray:
         """The guess's states x̃_1..x̃_M (M, n): ``guess_X[1:]``, or x held (the cold start)."""
@@ -341,7 +378,11 @@ class ShootingNLP(DropsBuffers):
             check.evaluate()
         else:
             check = self._call("acceptance-copy")
-            check.evaluate(z, res[2], res[3], res[4], p, guess_U.reshape(-1), value)
+            guess = guess_U.reshape(-1)
+            if self.stage_order:   # the checks read the guess's inputs out of a whole z
+                guess = np.zeros(len(z))
+                guess[self.iu] = guess_U.reshape(-1)
+            check.evaluate(z, res[2], res[3], res[4], p, guess, value)
         quantities = check.res[0].tolist()
         extra["complementarity"], extra["guess_cost"] = quantities[0], quantities[1]
         return rejection(quantities, value)

@@ -27,9 +27,33 @@ QRQP = {"print_iter": False, "print_header": False, "print_info": False, "error_
 
 
 class L1QP:
-    """The exact M-step problem for x+ = Ax + Bu + w and c(x, u) = qᵀ|x| + uᵀRu (see the module).
+    """Eq. (3), the M-step problem of Algorithm 1, for x+ = Ax + Bu + w and c(x, u) = qᵀ|x| + uᵀRu, as
+    one exact QP (see the module).
 
-    ``input_bounds``: (lo, hi) arrays of length m (±inf allowed), or None.
+    Parameters
+    ----------
+    A, B : ndarray
+        The system's matrices, (n, n) and (n, m).
+    q : ndarray
+        The weights (n,) >= 0 of the ℓ1 state cost qᵀ|x|.
+    R : ndarray
+        The (m, m) positive definite input weight.
+    M : int
+        The horizon (>= 1).
+    input_bounds : tuple of ndarray, optional
+        (lo, hi) arrays of length m (±inf allowed), the set U; None: no bounds.
+
+    Examples
+    --------
+    x⁺ = x + u + w with c = |x| + 0.1u² from x = 1 without disturbances: the plan moves the state to 0
+    in one step (cost 1 + 0.1) and then rests.
+
+    >>> import numpy as np
+    >>> from orrc.solvers.qp import L1QP
+    >>> qp = L1QP(np.eye(1), np.eye(1), np.ones(1), 0.1 * np.eye(1), M=3)
+    >>> plan = qp.solve(np.ones(1), np.zeros((3, 1)))
+    >>> plan.success, round(plan.value, 6), plan.inputs.ravel().round(6) + 0.0
+    (True, 1.1, array([-1.,  0.,  0.]))
     """
 
     def __init__(self, A, B, q, R, M: int, input_bounds=None):
@@ -78,10 +102,31 @@ class L1QP:
         self._qs = np.tile(q, M)
 
     def solve(self, x, W) -> Plan:
-        """Solve from state x (n,) with preview W (M, n); the value includes qᵀ|x| of the first step.
+        """Solve Eq. (3) from state x with preview W; the value includes qᵀ|x| of the first step.
 
         A failed solve is reported (``success=False``, the status, ``fallback``), not warned: the
-        controller's failure ladder (:mod:`orrc.controllers.failures`) decides what to apply."""
+        controller's failure ladder (:mod:`orrc.controllers.failures`) decides what to apply.
+
+        Parameters
+        ----------
+        x : ndarray
+            The state (n,).
+        W : ndarray
+            The previewed disturbances w_0..w_{M-1}, (M, n).
+
+        Returns
+        -------
+        Plan
+            The inputs (M, m), the predicted states (M + 1, n), V_M and the solver's report.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from orrc.solvers.qp import L1QP
+        >>> qp = L1QP(np.eye(1), np.eye(1), np.ones(1), 0.1 * np.eye(1), M=2)
+        >>> qp.solve(np.ones(1), np.full((2, 1), 0.5)).states.ravel().round(6) + 0.0
+        array([1. , 0. , 0.5])
+        """
         M, n, m = self.M, self.n, self.m
         t0 = time.perf_counter()
         self._p[:n] = x

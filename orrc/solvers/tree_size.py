@@ -11,8 +11,7 @@ import math
 import numpy as np
 
 from .._validate import OrrcValueError, check_size
-from ..disturbances import Box, Polytope
-from .minmax import _box_vertices
+from .minmax import set_vertices
 
 __all__ = ["TREE_NODE_LIMIT", "tree_nodes", "tree_vertices"]
 
@@ -41,12 +40,7 @@ def tree_vertices(W) -> np.ndarray:
     >>> tree_vertices(orrc.Box([-1.0, 0.0], [1.0, 0.0])).tolist()
     [[-1.0, 0.0], [1.0, 0.0]]
     """
-    if isinstance(W, Box):
-        return _box_vertices(W)
-    if isinstance(W, Polytope):
-        return W.vertices()
-    raise OrrcValueError(f"W must be an orrc.Box or an orrc.Polytope (a polytope, so that the worst case of a convex "
-                         f"cost sits at its vertices); got {type(W).__name__}")
+    return set_vertices(W)
 
 
 def tree_nodes(n_vertices: int, M: int) -> int | float:

@@ -58,9 +58,47 @@ from .plan import Plan
 
 
 class WarmSQP:
-    """The warm SQP step of ``nlp`` (a :class:`ShootingNLP` whose first solver is SQP) with the cost's own
-    parameters ``P`` (M, n_params; a step may give the previewed ones instead) and model parameters
-    ``theta`` (or None)."""
+    """The warm SQP step of Algorithm 1: Eq. (3) solved from the previous plan shifted by one step, on
+    the solver's own buffers (see the module).
+
+    Parameters
+    ----------
+    nlp : ShootingNLP
+        The transcription of Eq. (3) (:class:`~orrc.solvers.nlp.ShootingNLP`) whose first solver is SQP.
+    P : array_like
+        The cost's own parameters, (M, n_params); a step may give the previewed ones instead.
+    theta : array_like, optional
+        The model parameters θ of a :class:`~orrc.ParametricSystem`; None for a model without them.
+
+    Examples
+    --------
+    Five warm steps of the inverted pendulum's closed loop, without disturbances; the first step's V_M
+    is the plan's value from a cold start:
+
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc.solvers.warm_sqp import WarmSQP
+    >>> ex = orrc.examples.inverted_pendulum()
+    >>> rhc = orrc.PreviewRHC(ex.system, ex.cost, M=10, input_bounds=ex.input_bounds)
+    >>> warm = WarmSQP(rhc.nlp, np.broadcast_to(ex.cost.default_params, (10, ex.cost.n_params)))
+    >>> T = 5
+    >>> X, U = np.zeros((T + 1, 2)), np.zeros((T, 1))
+    >>> V, times, iters = np.zeros(T), np.zeros(T), np.zeros(T, dtype=int)
+    >>> w = np.zeros((T + 10) * 2)                         # the flat disturbances
+    >>> X[0] = ex.x0
+    >>> def advance(s):
+    ...     X[s + 1] = ex.system.step(X[s], U[s], w[2 * s:2 * s + 2])
+    >>> warm.set_guess(None, None, X[0])                   # a cold start
+    >>> warm.run(0, T, X, U, V, times, iters, w, advance=advance)    # every step accepted
+    5
+    >>> bool(abs(V[0] - rhc.plan(ex.x0, np.zeros((10, 2))).value) < 1e-6 * V[0])
+    True
+    >>> bool(np.all(np.diff(V) < 0))                       # the value decreases along the loop
+    True
+    >>> plan = warm.plan(X[T - 1], V[T - 1])               # the last accepted answer
+    >>> plan.inputs.shape, plan.states.shape, plan.solver
+    ((10, 1), (11, 2), 'sqp')
+    """
 
     def __init__(self, nlp: ShootingNLP, P, theta=None):
         self.nlp = nlp
@@ -103,9 +141,29 @@ class WarmSQP:
         self.compiled = solver is not None and check is not None
 
     def set_guess(self, inputs, states, x=None) -> None:
-        """The guess of the next solve: ``inputs`` (M, m) and states x̃_0..x̃_M (M+1, n; x̃_0 is replaced by the
-        state), or with both None the cold start from state ``x``, as :meth:`ShootingNLP.solve` writes them
-        (:meth:`ShootingNLP.write_guess <orrc.solvers.nlp.ShootingNLP.write_guess>`)."""
+        """Write the guess of the next solve of Eq. (3) into the solver's buffer.
+
+        The guess is ``inputs`` and ``states``, or with both None the cold start from state ``x``, as
+        :meth:`ShootingNLP.solve` writes them
+        (:meth:`ShootingNLP.write_guess <orrc.solvers.nlp.ShootingNLP.write_guess>`).
+
+        Parameters
+        ----------
+        inputs : ndarray or None
+            The guessed inputs, (M, m).
+        states : ndarray or None
+            The guessed states x̃_0..x̃_M, (M+1, n); x̃_0 is replaced by the state.
+        x : ndarray, optional
+            The state of a cold start (n,).
+
+        Returns
+        -------
+        None
+
+        Examples
+        --------
+        See :class:`WarmSQP`.
+        """
         self.nlp.write_guess(self.z0, x, inputs, states)
 
     def run(self, t: int, stop: int, X, U, V, times, iters, w, P=None, k: int = 0, advance=None) -> int:
@@ -121,7 +179,33 @@ class WarmSQP:
         w_s in the parameters, u_s in the answer), its result is ``X[s + 1]``. A step not accepted (no convergence, an error, a
         non-finite or rejected answer) leaves the buffer's guess unchanged for the failure ladder. Every
         count is written before it returns (the module docstring: a pending count is read with the next
-        solve's statistics, or at the end)."""
+        solve's statistics, or at the end).
+
+        Parameters
+        ----------
+        t, stop : int
+            The first step to take and the step to stop before.
+        X, U, V, times, iters : ndarray
+            The closed loop's states (T+1, n), inputs (T, m), V_M, solve seconds and iteration counts (T,),
+            written in place.
+        w : ndarray
+            The flat disturbances, at least (stop + M - 1) n entries.
+        P : ndarray, optional
+            The previewed costs' parameters, flat, k per step; None: the cost's own.
+        k : int
+            The cost's parameters per step (with ``P``).
+        advance : callable or Buffered
+            The plant's step: ``advance(s)`` writes ``X[s + 1]``, or a Buffered step whose result is.
+
+        Returns
+        -------
+        int
+            The first step not taken (``stop`` when every step was accepted).
+
+        Examples
+        --------
+        See :class:`WarmSQP`.
+        """
         if not self.compiled:
             self._use_compiled()
         first = t
@@ -199,12 +283,29 @@ class WarmSQP:
         return t
 
     def plan(self, x, value: float) -> Plan:
-        """The :class:`~orrc.solvers.Plan` of the last accepted answer, solved from state x (what the failure
-        ladder keeps to shift from)."""
+        """The plan of Eq. (3) of the last accepted answer, solved from state x (what the failure ladder
+        keeps to shift from).
+
+        Parameters
+        ----------
+        x : ndarray
+            The state (n,) the last accepted answer was solved from.
+        value : float
+            Its V_M (as :meth:`run` recorded it).
+
+        Returns
+        -------
+        Plan
+            The :class:`~orrc.solvers.Plan` of that answer (solver "sqp").
+
+        Examples
+        --------
+        See :class:`WarmSQP` (its last lines: the plan of the fifth step).
+        """
         M, n, m, z = self.M, self.n, self.m, self.good
         states = np.empty((M + 1, n))
-        states[0], states[1:] = x, z[self.nu:].reshape(M, n)
-        return Plan(inputs=z[: self.nu].reshape(M, m).copy(), states=states, value=value, solver=SQP)
+        states[0], states[1:] = x, z[self.nlp.ix].reshape(M, n)
+        return Plan(inputs=z[self.nlp.iu].reshape(M, m).copy(), states=states, value=value, solver=SQP)
 
 
 def _count(iters, t: int, c: int) -> None:

@@ -1,8 +1,10 @@
 """What a chapter needs from the notebook it runs in, with or without the book's tools.
 
 :func:`glue` hands a computed number to the book's prose: it is ``myst_nb.glue`` when
-myst-nb is installed (the book's build), and a plain store otherwise, so that a chapter
-downloaded as ``.ipynb`` runs wherever ``orrc`` is installed (``pip install`` of the project).
+myst-nb is installed, writes the same output (:func:`_record`) in a build of the book whose
+kernel has no myst-nb (the test build runs the chapters in the environment a download installs),
+and is a plain store otherwise, so that a chapter downloaded as ``.ipynb`` runs wherever
+``orrc`` is installed (``pip install`` of the project).
 Every glued value is kept in :data:`glued`, by key.
 
 The prose quotes a glued number with a MyST inline expression,
@@ -21,6 +23,8 @@ shows one folded line under the cell that computed them ("Numbers quoted in the 
 unfolded ``l1-q19 = 23.39``, ...; as text where HTML is not shown).
 """
 from __future__ import annotations
+
+from ..config import book_build
 
 __all__ = ["glue", "glued", "Quoted"]
 
@@ -186,8 +190,28 @@ def glue(name: str, value, display: bool = False) -> None:
         _show_in_cell(shell, name, value)
     try:
         from IPython import get_ipython
-        from myst_nb import glue as myst_glue
     except ImportError:
         return
-    if get_ipython() is not None:  # myst-nb glues through the notebook's outputs
+    try:
+        from myst_nb import glue as myst_glue
+    except ImportError:
+        myst_glue = _record if book_build() else None
+    if myst_glue is not None and get_ipython() is not None:  # glued through the notebook's outputs
         myst_glue(name, value, display=display)
+
+
+#: the MIME prefix of a value glued but not displayed (myst-nb's ``GLUE_PREFIX``)
+GLUE_PREFIX = "application/papermill.record/"
+
+
+def _record(name: str, value, display: bool = False) -> None:
+    """The output ``myst_nb.glue(name, value, display)`` writes, for a kernel without myst-nb: the
+    value's display formats under :data:`GLUE_PREFIX` (none when ``display``) and the key in the
+    output's ``scrapbook`` metadata, which the book's build reads."""
+    from IPython.core.formatters import format_display_data
+    from IPython.display import display as show
+
+    bundle, metadata = format_display_data(value)
+    prefix = "" if display else GLUE_PREFIX
+    metadata["scrapbook"] = {"name": name, "mime_prefix": prefix}
+    show({prefix + k: v for k, v in bundle.items()}, raw=True, metadata=metadata)
