@@ -291,8 +291,10 @@ def mass_chain(k: int = 2, dt: float = 0.1, stiffness: float = 1.0, cubic: float
     --------
     >>> import orrc
     >>> ex = orrc.examples.mass_chain(k=3)
-    >>> ex.system, ex.x0, ex.input_bounds
-    (NonlinearSystem(n=6, m=1, name='chain of 3 masses'), array([0.5, 0.5, 0.5, 0. , 0. , 0. ]), (-2.0, 2.0))
+    >>> ex.system
+    NonlinearSystem(n=6, m=1, name='chain of 3 masses')
+    >>> ex.x0, ex.input_bounds
+    (array([0.5, 0.5, 0.5, 0. , 0. , 0. ]), (-2.0, 2.0))
     """
     k = as_int("k", k, minimum=1, maximum=MAX_MASSES)
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
