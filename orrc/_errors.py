@@ -31,7 +31,8 @@ class SizeWarning(UserWarning):
 
     >>> import warnings
     >>> import orrc
-    >>> with orrc.config.limits(warn_bytes=1e3), warnings.catch_warnings(record=True) as caught:
+    >>> with (orrc.config.limits(warn_bytes=1e3),
+    ...       warnings.catch_warnings(record=True) as caught):
     ...     warnings.simplefilter("always")
     ...     vertices = orrc.Box(-1.0, 1.0, n=8).vertices()
     >>> vertices.shape, [w.category.__name__ for w in caught]
@@ -52,7 +53,8 @@ class NonFiniteWarning(RuntimeWarning):
     >>> ex = orrc.examples.scalar_unstable(A=1e100)
     >>> with warnings.catch_warnings(record=True) as caught:
     ...     warnings.simplefilter("always")
-    ...     traj = orrc.simulate(ex.system, orrc.ZeroInput(1, ex.cost), [1.0], np.zeros((3, 1)), T=3)
+    ...     traj = orrc.simulate(ex.system, orrc.ZeroInput(1, ex.cost), [1.0],
+    ...                          np.zeros((3, 1)), T=3)
     >>> [w.category.__name__ for w in caught]
     ['NonFiniteWarning']
     """

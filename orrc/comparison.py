@@ -40,7 +40,8 @@ class ComparisonRow:
     >>> from orrc import comparison
     >>> ex = orrc.examples.scalar_unstable()
     >>> w = orrc.disturbances.uniform_ball(30, 1, 1.0, seed=0)
-    >>> rows = comparison.compare(ex.system, ex.cost, {"LQR": orrc.LQR(ex.system, ex.cost)}, w, T=20, gamma=5.0)
+    >>> rows = comparison.compare(ex.system, ex.cost, {"LQR": orrc.LQR(ex.system, ex.cost)},
+    ...                           w, T=20, gamma=5.0)
     >>> [row.name for row in rows]
     ['LQR', 'clairvoyant optimum']
     """
@@ -89,8 +90,9 @@ def compare(system, cost, controllers: dict, w, T: int, gamma: float, x0=None, w
     >>> from orrc import comparison
     >>> ex = orrc.examples.scalar_unstable()
     >>> w = orrc.disturbances.uniform_ball(30, 1, 1.0, seed=0)
-    >>> rows = comparison.compare(ex.system, ex.cost, {"LQR": orrc.LQR(ex.system, ex.cost),
-    ...                                                "preview RHC": orrc.PreviewRHC(ex.system, ex.cost, 5)},
+    >>> rows = comparison.compare(ex.system, ex.cost,
+    ...                           {"LQR": orrc.LQR(ex.system, ex.cost),
+    ...                            "preview RHC": orrc.PreviewRHC(ex.system, ex.cost, 5)},
     ...                           w, T=20, gamma=5.0)
     >>> [(row.name, round(row.dynamic_regret, 2)) for row in rows]
     [('LQR', 25.3), ('preview RHC', 0.05), ('clairvoyant optimum', 0.0)]

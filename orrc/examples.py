@@ -213,19 +213,20 @@ def inverted_pendulum(dt: float = 0.05, g_over_l: float = 9.81, friction: float 
                    (-u_max, u_max), f"inverted pendulum (upright), dt = {dt:g}, |u| <= {u_max:g}")
 
 
-def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0, r: float = 0.1) -> Example:
+def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0,
+                input_weight: float = 0.1) -> Example:
     """Van der Pol oscillator (unstable origin, stable limit cycle), Euler-sampled:
 
         x1+ = x1 + dt x2,  x2+ = x2 + dt (mu (1 − x1²) x2 − x1 + u),  plus w.
 
-    Cost c = x1² + x2² + r u² (r: the input weight, 0.1 by default), |u| <= u_max.
+    Cost c = x1² + x2² + input_weight · u² (0.1 by default), |u| <= u_max.
 
     Parameters
     ----------
     dt : the sampling period, > 0.
     mu : the oscillator's nonlinearity.
     u_max : the input bound |u| <= u_max.
-    r : the input weight.
+    input_weight : the weight of u² in the cost, > 0.
 
     Returns
     -------
@@ -238,18 +239,20 @@ def van_der_pol(dt: float = 0.1, mu: float = 1.0, u_max: float = 5.0, r: float =
     >>> ex = orrc.examples.van_der_pol()
     >>> ex.system, ex.x0, ex.M
     (NonlinearSystem(n=2, m=1, name='Van der Pol oscillator'), array([1.5, 0. ]), 15)
+    >>> float(orrc.examples.van_der_pol(input_weight=0.01).cost.R[0, 0])
+    0.01
     """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
     mu = as_float("mu", mu, minimum=0.0)
     u_max = as_float("u_max", u_max, minimum=0.0, strict_min=True)
-    r = as_float("r", r, minimum=0.0, strict_min=True)
+    input_weight = as_float("input_weight", input_weight, minimum=0.0, strict_min=True)
 
     def f(x, u, w):
         return ca.vertcat(x[0] + dt * x[1],
                           x[1] + dt * (mu * (1 - x[0] ** 2) * x[1] - x[0] + u[0])) + w
 
     return Example("van_der_pol", NonlinearSystem(f, 2, 1, name="Van der Pol oscillator"),
-                   QuadraticCost(np.eye(2), [[r]]), np.array([1.5, 0.0]), 15,
+                   QuadraticCost(np.eye(2), [[input_weight]]), np.array([1.5, 0.0]), 15,
                    (-u_max, u_max), f"Van der Pol oscillator, mu = {mu:g}, dt = {dt:g}, |u| <= {u_max:g}")
 
 
@@ -288,8 +291,10 @@ def mass_chain(k: int = 2, dt: float = 0.1, stiffness: float = 1.0, cubic: float
     --------
     >>> import orrc
     >>> ex = orrc.examples.mass_chain(k=3)
-    >>> ex.system, ex.x0, ex.input_bounds
-    (NonlinearSystem(n=6, m=1, name='chain of 3 masses'), array([0.5, 0.5, 0.5, 0. , 0. , 0. ]), (-2.0, 2.0))
+    >>> ex.system
+    NonlinearSystem(n=6, m=1, name='chain of 3 masses')
+    >>> ex.x0, ex.input_bounds
+    (array([0.5, 0.5, 0.5, 0. , 0. , 0. ]), (-2.0, 2.0))
     """
     k = as_int("k", k, minimum=1, maximum=MAX_MASSES)
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)

@@ -54,7 +54,8 @@ def attenuation_regret(traj, gamma: float, cumulative: bool = False):
     >>> import orrc
     >>> di = orrc.examples.double_integrator()
     >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
-    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0,
+    ...                      w, T=50)
     >>> print(f"{orrc.attenuation_regret(traj, gamma=40.0):.4f}")
     -0.6526
     >>> orrc.attenuation_regret(traj, gamma=40.0, cumulative=True).shape
@@ -95,7 +96,8 @@ def attenuation_ratio(traj) -> float:
     >>> import orrc
     >>> di = orrc.examples.double_integrator()
     >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
-    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0,
+    ...                      w, T=50)
     >>> print(f"{orrc.attenuation_ratio(traj):.4f}")
     37.5290
     """
@@ -134,8 +136,10 @@ def dynamic_regret(traj, reference) -> float:
     >>> import orrc
     >>> di = orrc.examples.double_integrator()
     >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
-    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
-    >>> best = orrc.simulate(di.system, orrc.Clairvoyant(di.system, di.cost, T=50), di.x0, w, T=50)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0,
+    ...                      w, T=50)
+    >>> best = orrc.simulate(di.system, orrc.Clairvoyant(di.system, di.cost, T=50),
+    ...                      di.x0, w, T=50)
     >>> print(f"{orrc.dynamic_regret(traj, best):.4f}")
     0.2222
     """

@@ -49,7 +49,8 @@ class ParametricSystem(System):
 
     >>> import numpy as np
     >>> import orrc
-    >>> model = orrc.ParametricSystem(lambda x, u, w, th: th[0] * x + th[1] * u + w, 1, 1, 2)
+    >>> model = orrc.ParametricSystem(lambda x, u, w, th: th[0] * x + th[1] * u + w,
+    ...                               1, 1, 2)
     >>> true = model.at([2.0, 1.0])
     >>> true.step(np.array([1.0]), np.array([0.5]), np.zeros(1))
     array([2.5])

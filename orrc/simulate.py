@@ -104,7 +104,8 @@ def simulate(system: System, controller: Controller, x0, w, T: int, costs=None, 
     >>> import orrc
     >>> di = orrc.examples.double_integrator()
     >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
-    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0,
+    ...                      w, T=50)
     >>> print(f"{traj.costs.sum():.4f}")
     9.9116
     """

@@ -84,7 +84,8 @@ class Table(list):
     >>> def run(M, radius, seed):
     ...     di = orrc.examples.double_integrator()
     ...     w = orrc.disturbances.uniform_ball(60, 2, radius, seed=seed)
-    ...     traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M), di.x0, w, 50)
+    ...     traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M),
+    ...                          di.x0, w, 50)
     ...     return {"cost": traj.costs.sum()}
     >>> table = orrc.sweep(run, {"M": [1, 10], "radius": [0.1]}, seeds=3, backend="serial")
     >>> table.where(M=10).column("cost").shape
@@ -262,12 +263,14 @@ def sweep(fn, grid, seeds=None, *, seed: int = 0, common_seeds: bool = False, ba
     >>> def run(M, radius, seed):
     ...     di = orrc.examples.double_integrator()
     ...     w = orrc.disturbances.uniform_ball(60, 2, radius, seed=seed)
-    ...     traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M), di.x0, w, 50)
+    ...     traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M),
+    ...                          di.x0, w, 50)
     ...     return {"cost": traj.costs.sum()}
     >>> table = orrc.sweep(run, {"M": [1, 10], "radius": [0.1]}, seeds=3, backend="serial")
     >>> len(table), table.columns
     (6, ['M', 'radius', 'seed', 'replicate', 'cost'])
-    >>> bool(table.where(M=10).column("cost").mean() < table.where(M=1).column("cost").mean())
+    >>> mean_cost = {M: table.where(M=M).column("cost").mean() for M in (1, 10)}
+    >>> bool(mean_cost[10] < mean_cost[1])
     True
     """
     if not callable(fn):

@@ -226,7 +226,8 @@ class NonlinearSystem(DropsBuffers, System):
     >>> import numpy as np
     >>> import orrc
     >>> def f(x, u, w):   # a pendulum, Euler-sampled with dt = 0.05
-    ...     return ca.vertcat(x[0] + 0.05 * x[1], x[1] + 0.05 * (9.81 * ca.sin(x[0]) + u[0])) + w
+    ...     return ca.vertcat(x[0] + 0.05 * x[1],
+    ...                       x[1] + 0.05 * (9.81 * ca.sin(x[0]) + u[0])) + w
     >>> pend = orrc.NonlinearSystem(f, n_states=2, n_inputs=1)
     >>> pend.step(np.array([0.1, 0.0]), np.array([0.0]), np.zeros(2))
     array([0.1       , 0.04896829])

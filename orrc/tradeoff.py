@@ -65,8 +65,10 @@ class Tradeoff:
     >>> import orrc
     >>> from orrc import tradeoff
     >>> di = orrc.examples.double_integrator()
-    >>> result = tradeoff.exploration_tradeoff(di.system, orrc.ParametricSystem.linear(2, 1), di.cost, M=5,
-    ...                                        Ns=[3, 6, 12], seeds=2, window=30, backend="serial")
+    >>> result = tradeoff.exploration_tradeoff(di.system,
+    ...                                        orrc.ParametricSystem.linear(2, 1), di.cost,
+    ...                                        M=5, Ns=[3, 6, 12], seeds=2, window=30,
+    ...                                        backend="serial")
     >>> result.Ns, result.explore_cost.shape, result.loss.shape
     (array([ 3.,  6., 12.]), (2, 3), (2, 3))
     """
@@ -176,9 +178,12 @@ def exploration_tradeoff(system, model, cost, M: int, Ns, seeds: int = 10, windo
     >>> import orrc
     >>> from orrc import tradeoff
     >>> di = orrc.examples.double_integrator()
-    >>> result = tradeoff.exploration_tradeoff(di.system, orrc.ParametricSystem.linear(2, 1), di.cost, M=5,
-    ...                                        Ns=[3, 6, 12], seeds=2, window=30, backend="serial")
-    >>> bool((result.explore_cost[:, -1] > result.explore_cost[:, 0]).all())   # exploring longer costs more
+    >>> result = tradeoff.exploration_tradeoff(di.system,
+    ...                                        orrc.ParametricSystem.linear(2, 1), di.cost,
+    ...                                        M=5, Ns=[3, 6, 12], seeds=2, window=30,
+    ...                                        backend="serial")
+    >>> # exploring longer costs more
+    >>> bool((result.explore_cost[:, -1] > result.explore_cost[:, 0]).all())
     True
     """
     import functools

@@ -57,7 +57,8 @@ class Trajectory:
     >>> import orrc
     >>> di = orrc.examples.double_integrator()
     >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
-    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0, w, T=50)
+    >>> traj = orrc.simulate(di.system, orrc.PreviewRHC(di.system, di.cost, M=10), di.x0,
+    ...                      w, T=50)
     >>> traj.x.shape, traj.u.shape, traj.costs.shape, traj.values.shape
     ((51, 2), (50, 1), (50,), (50,))
     """
@@ -158,7 +159,8 @@ def failure_summary(name: str, T: int, ok, status, fallback) -> str:
     >>> import numpy as np
     >>> from orrc.trajectory import failure_summary
     >>> text = failure_summary("preview RHC", 4, np.array([True, False, False, True]),
-    ...                        ["ok", "failed", "failed", "ok"], [None, "the shifted plan", "the shifted plan", None])
+    ...                        ["ok", "failed", "failed", "ok"],
+    ...                        [None, "the shifted plan", "the shifted plan", None])
     >>> text[:58]
     'preview RHC: the solve failed at 2 of 4 steps (t = 1-2; st'
     """
@@ -270,7 +272,8 @@ class Record:
 
     >>> import orrc
     >>> di = orrc.examples.double_integrator()
-    >>> traj = orrc.simulate(di.system, orrc.LQR(di.system, di.cost), di.x0, orrc.disturbances.zero(5, 2), T=5)
+    >>> traj = orrc.simulate(di.system, orrc.LQR(di.system, di.cost), di.x0,
+    ...                      orrc.disturbances.zero(5, 2), T=5)
     >>> traj.x.shape
     (6, 2)
     """

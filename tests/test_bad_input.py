@@ -233,7 +233,7 @@ CASES = [
     case("mass_chain-u_max-zero", lambda: exs.mass_chain(u_max=0.0), "u_max"),
     case("van_der_pol-u_max-zero", lambda: exs.van_der_pol(u_max=0.0), "u_max"),
     case("van_der_pol-mu-negative", lambda: exs.van_der_pol(mu=-1.0), "mu"),
-    case("van_der_pol-r-nan", lambda: exs.van_der_pol(r=np.nan), "r"),
+    case("van_der_pol-input_weight-nan", lambda: exs.van_der_pol(input_weight=np.nan), "input_weight"),
 
     # -- orrc.controllers ----------------------------------------------------------------------------
     case("PreviewRHC-system", lambda: orrc.PreviewRHC("sys", di().cost, 5), "system"),

@@ -18,6 +18,7 @@ import types
 import pytest
 
 import orrc
+import orrc.viz
 from tools.sphinx_api import documented_at, public_names
 
 #: names whose docstrings are written beside their module's other changes; emptied when those land
@@ -29,7 +30,14 @@ COMPLETE_PACKAGES = ["orrc.config", "orrc.theory", "orrc.checks", "orrc.certify"
                      "orrc.controllers.hinf", "orrc.controllers.lifted", "orrc.solvers.lq", "orrc.solvers.game",
                      "orrc.solvers.condensed", "orrc.solvers.regret", "orrc.viz", "orrc.systems", "orrc.trajectory",
                      "orrc.viz.figures", "orrc.viz.legibility", "orrc.viz.narrow", "orrc.viz.describe", "orrc.viz.kernel",
-                     "orrc.solvers.acceptance", "orrc.solvers.qp", "orrc.solvers.warm_sqp", "orrc.solvers.exchange"]
+                     "orrc.solvers.acceptance", "orrc.solvers.qp", "orrc.solvers.warm_sqp", "orrc.solvers.exchange",
+                     *("orrc.viz.plots", "orrc.viz.rhc_plots", "orrc.viz.style", "orrc.viz.tables",
+                       "orrc.viz.theory_plots", "orrc.viz.lemma1_plots", "orrc.viz.lemma2_plots",
+                       "orrc.viz.theorem1_plots", "orrc.viz.comparison_plots", "orrc.viz.unknown_plots",
+                       "orrc.viz.lemma34_plots", "orrc.viz.theorem2_plots", "orrc.viz.minmax_plots",
+                       "orrc.viz.lemma6_plots")]
+#: the figure modules of orrc.viz: every public function also lists its Parameters
+PLOT_MODULES = [m for m in COMPLETE_PACKAGES if m.startswith("orrc.viz.") and m.endswith(("plots", "style", "tables"))]
 #: modules of those packages whose docstrings do not have their sections yet
 PENDING_MODULES = {"orrc.certify.minmax", "orrc.certify._lemma6_case", "orrc.certify._lemma6_recheck",
                    "orrc.controllers.minmax"}
@@ -124,6 +132,25 @@ def test_every_name_of_the_documented_packages_has_its_numpydoc_sections():
                 gaps[f"{package}.{name}"] = missing
     assert not gaps, "public names without their docstring sections: " + "; ".join(
         f"{name} ({', '.join(m)})" for name, m in sorted(gaps.items()))
+
+
+def test_every_figure_function_lists_its_parameters():
+    gaps = []
+    for package in PLOT_MODULES:
+        module = importlib.import_module(package)
+        for name in public_names(package):
+            obj = getattr(module, name)
+            if not (inspect.isclass(obj) or inspect.isroutine(obj)):
+                continue
+            params = [p for p in inspect.signature(obj).parameters.values()
+                      if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]
+            if params and "Parameters" not in sections(inspect.getdoc(obj)):
+                gaps.append(f"{package}.{name}")
+    # every module of orrc.viz that draws figures is held to it
+    drawing = {f"orrc.viz.{m.name}" for m in pkgutil.iter_modules(orrc.viz.__path__)
+               if m.name.endswith("_plots") or m.name in ("plots", "style", "tables")}
+    assert drawing <= set(PLOT_MODULES), f"figure modules left out: {sorted(drawing - set(PLOT_MODULES))}"
+    assert not gaps, f"figure functions without a Parameters section: {gaps}"
 
 
 def test_pending_names_are_public_names():

@@ -13,7 +13,7 @@ import pytest
 import orrc
 
 DI = orrc.examples.double_integrator()
-VDP = orrc.examples.van_der_pol(dt=0.3, r=0.01)
+VDP = orrc.examples.van_der_pol(dt=0.3, input_weight=0.01)
 T = 30
 GRID = {"M": [1, 3, 6], "radius": [0.1, 0.5]}
 

@@ -173,8 +173,8 @@ def lemma6_case(system, cost, M, W, n_x: int = 30, n_angles: int = 12, n_pairs: 
     >>> import orrc
     >>> from orrc import certify
     >>> ex = orrc.examples.scalar_unstable(A=1.2)
-    >>> case = certify.lemma6_case(ex.system, ex.cost, 3, orrc.Box(-0.3, 0.3), n_x=4, n_pairs=5,
-    ...                            refine=False, policy="feedback")
+    >>> case = certify.lemma6_case(ex.system, ex.cost, 3, orrc.Box(-0.3, 0.3), n_x=4,
+    ...                            n_pairs=5, refine=False, policy="feedback")
     >>> case.holds(), case.points
     (True, 9)
 

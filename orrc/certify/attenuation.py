@@ -109,7 +109,8 @@ def worst_case_attenuation(system: LinearSystem, controller: Controller, T: int,
     >>> di = orrc.examples.double_integrator()
     >>> lqr = orrc.LQR(di.system, di.cost)
     >>> worst = certify.worst_case_attenuation(di.system, lqr, T=30)
-    >>> traj = orrc.simulate(di.system, lqr, [0.0, 0.0], worst.w, T=30)   # the adversary made explicit
+    >>> # the adversary made explicit
+    >>> traj = orrc.simulate(di.system, lqr, [0.0, 0.0], worst.w, T=30)
     >>> print(round(traj.costs.sum(), 3))
     95.267
     """

@@ -328,8 +328,8 @@ def sampled_lipschitz(model, cost: StageCost, M: int, theta, radius: float, n_sa
     >>> import orrc
     >>> from orrc import certify
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
-    >>> L = certify.sampled_lipschitz(orrc.ParametricSystem.linear(1, 1), ex.cost, 4, [1.2, 1.0],
-    ...                               radius=0.05, n_samples=4, seed=0)
+    >>> L = certify.sampled_lipschitz(orrc.ParametricSystem.linear(1, 1), ex.cost, 4,
+    ...                               [1.2, 1.0], radius=0.05, n_samples=4, seed=0)
     >>> L.estimate
     True
     """

@@ -185,7 +185,8 @@ def minmax_constants(system: System, cost: StageCost, M: int, W, input_bounds=No
     >>> ex = orrc.examples.scalar_unstable(A=1.2)
     >>> W = orrc.Box(-0.3, 0.3)
     >>> ol = certify.minmax_constants(ex.system, ex.cost, 6, W, n_samples=1)
-    >>> fb = certify.minmax_constants(ex.system, ex.cost, 6, W, n_samples=1, policy="feedback")
+    >>> fb = certify.minmax_constants(ex.system, ex.cost, 6, W, n_samples=1,
+    ...                               policy="feedback")
     >>> bool(fb.info["gamma_bar_W_min"] < ol.info["gamma_bar_W_min"]), fb.estimate
     (True, False)
     """

@@ -53,7 +53,8 @@ class Margins:
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
     >>> m = checks.value_bound_margins(traj, 8, k.alpha_hi, k.gamma_bar)
     >>> m.margin.shape, m.holds()
     ((50,), True)
@@ -117,7 +118,8 @@ class Lemma1Margins:
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
     >>> lemma1 = checks.lemma1_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar)
     >>> lemma1.lower.holds(), lemma1.increment.holds(), bool(lemma1.Gamma_V < 0)
     (True, True, True)
@@ -216,7 +218,8 @@ def value_bound_margins(traj, M, alpha_hi, gamma_bar) -> Margins:
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
     >>> checks.value_bound_margins(traj, 8, k.alpha_hi, k.gamma_bar).holds()
     True
     """
@@ -263,7 +266,8 @@ def lemma1_margins(traj, M, alpha_lo, alpha_hi, gamma_bar) -> Lemma1Margins:
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
     >>> lemma1 = checks.lemma1_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar)
     >>> lemma1.lower.margin.shape, lemma1.increment.margin.shape
     ((50,), (49,))
@@ -318,7 +322,8 @@ def lemma2_margins(traj, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> Margins:
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
     >>> lemma2 = checks.lemma2_margins(traj, 8, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar)
     >>> lemma2.margin.shape, lemma2.holds()
     ((42,), True)
@@ -380,8 +385,10 @@ def theorem1_margin(traj, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) -> Margins
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> k = certify.lq_constants(ex.system, ex.cost, M=8)    # certified α_lo, ᾱ, γ̄, a, γ_c
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0, w, 50)
-    >>> theorem1 = checks.theorem1_margin(traj, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar, k.gamma_c)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
+    >>> theorem1 = checks.theorem1_margin(traj, 8, k.a, k.alpha_lo, k.alpha_hi,
+    ...                                   k.gamma_bar, k.gamma_c)
     >>> theorem1.margin.shape, theorem1.holds()
     ((50,), True)
     """

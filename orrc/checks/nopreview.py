@@ -71,9 +71,11 @@ def minmax_value_bound_margins(traj, M, W, alpha_hi_W, gamma_bar_W) -> Margins:
     >>> from orrc import certify, checks
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> W = orrc.Box(-0.5, 0.5, n=1)
-    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)      # certified α_lo, ᾱ_W, γ̄_W, a, γ_{c,W}
+    >>> # certified α_lo, ᾱ_W, γ̄_W, a, γ_{c,W}
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)
     >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.MinMaxRHC(ex.system, ex.cost, 6, W), ex.x0, w, 30)
+    >>> traj = orrc.simulate(ex.system, orrc.MinMaxRHC(ex.system, ex.cost, 6, W), ex.x0,
+    ...                      w, 30)
     >>> checks.minmax_value_bound_margins(traj, 6, W, k.alpha_hi_W, k.gamma_bar_W).holds()
     True
     """
@@ -121,9 +123,11 @@ def lemma6_margins(traj, M, W, alpha_lo, alpha_hi_W, gamma_bar_W) -> Lemma1Margi
     >>> from orrc import certify, checks
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> W = orrc.Box(-0.5, 0.5, n=1)
-    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)      # certified α_lo, ᾱ_W, γ̄_W, a, γ_{c,W}
+    >>> # certified α_lo, ᾱ_W, γ̄_W, a, γ_{c,W}
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)
     >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.MinMaxRHC(ex.system, ex.cost, 6, W), ex.x0, w, 30)
+    >>> traj = orrc.simulate(ex.system, orrc.MinMaxRHC(ex.system, ex.cost, 6, W), ex.x0,
+    ...                      w, 30)
     >>> lemma6 = checks.lemma6_margins(traj, 6, W, k.alpha_lo, k.alpha_hi_W, k.gamma_bar_W)
     >>> lemma6.lower.holds(), lemma6.increment.holds()
     (True, True)
@@ -177,10 +181,13 @@ def theorem3_margin(traj, M, W, a, alpha_lo, alpha_hi_W, gamma_bar_W, gamma) -> 
     >>> from orrc import certify, checks
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
     >>> W = orrc.Box(-0.5, 0.5, n=1)
-    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)      # certified α_lo, ᾱ_W, γ̄_W, a, γ_{c,W}
+    >>> # certified α_lo, ᾱ_W, γ̄_W, a, γ_{c,W}
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)
     >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
-    >>> traj = orrc.simulate(ex.system, orrc.MinMaxRHC(ex.system, ex.cost, 6, W), ex.x0, w, 30)
-    >>> theorem3 = checks.theorem3_margin(traj, 6, W, k.a, k.alpha_lo, k.alpha_hi_W, k.gamma_bar_W, k.gamma_c_W)
+    >>> traj = orrc.simulate(ex.system, orrc.MinMaxRHC(ex.system, ex.cost, 6, W), ex.x0,
+    ...                      w, 30)
+    >>> theorem3 = checks.theorem3_margin(traj, 6, W, k.a, k.alpha_lo, k.alpha_hi_W,
+    ...                                   k.gamma_bar_W, k.gamma_c_W)
     >>> theorem3.margin.shape, theorem3.holds()
     ((30,), True)
     """

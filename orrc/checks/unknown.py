@@ -85,15 +85,16 @@ def lemma4_margins(traj, M, alpha_lo, alpha_hi, gamma_bar, alpha_V, alpha_kappa,
     >>> import orrc
     >>> from orrc import certify, checks, theory
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
-    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)                           # α_lo, ᾱ, γ̄, a, γ_c
-    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)     # α_V, α_κ, α_c, α_f S
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)   # α_lo, ᾱ, γ̄, a, γ_c
+    >>> # α_V, α_κ, α_c, α_f S
+    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)
     >>> at = theory.alpha_f_tilde(L.alpha_f_S, 8)
-    >>> etc = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
-    ...                                theta_true=[1.2, 1.0])
+    >>> etc = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8,
+    ...                                N=5, theta_true=[1.2, 1.0])
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
     >>> traj = orrc.simulate(ex.system, etc, ex.x0, w, 50)
-    >>> lemma4 = checks.lemma4_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar, L.alpha_V,
-    ...                                L.alpha_kappa, L.alpha_c, at)
+    >>> lemma4 = checks.lemma4_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar,
+    ...                                L.alpha_V, L.alpha_kappa, L.alpha_c, at)
     >>> lemma4.margin.shape, lemma4.holds()
     ((44,), True)
     """
@@ -143,15 +144,16 @@ def lemma5_margins(traj, M, H, a, alpha_lo, alpha_hi, gamma_bar, alpha_V, alpha_
     >>> import orrc
     >>> from orrc import certify, checks, theory
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
-    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)                           # α_lo, ᾱ, γ̄, a, γ_c
-    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)     # α_V, α_κ, α_c, α_f S
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)   # α_lo, ᾱ, γ̄, a, γ_c
+    >>> # α_V, α_κ, α_c, α_f S
+    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)
     >>> at = theory.alpha_f_tilde(L.alpha_f_S, 8)
-    >>> etc = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
-    ...                                theta_true=[1.2, 1.0])
+    >>> etc = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8,
+    ...                                N=5, theta_true=[1.2, 1.0])
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
     >>> traj = orrc.simulate(ex.system, etc, ex.x0, w, 50)
-    >>> lemma5 = checks.lemma5_margins(traj, 8, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar, L.alpha_V,
-    ...                                L.alpha_kappa, L.alpha_c, at)
+    >>> lemma5 = checks.lemma5_margins(traj, 8, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar,
+    ...                                L.alpha_V, L.alpha_kappa, L.alpha_c, at)
     >>> lemma5.margin.shape, lemma5.holds()
     ((37,), True)
     """
@@ -211,15 +213,17 @@ def theorem2_margin(traj, M, a, alpha_lo, alpha_hi, gamma_bar, gamma, alpha_V, a
     >>> import orrc
     >>> from orrc import certify, checks, theory
     >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
-    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)                           # α_lo, ᾱ, γ̄, a, γ_c
-    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)     # α_V, α_κ, α_c, α_f S
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)   # α_lo, ᾱ, γ̄, a, γ_c
+    >>> # α_V, α_κ, α_c, α_f S
+    >>> L = certify.lq_lipschitz(ex.system, ex.cost, M=8, radius=0.05, rho=5.0)
     >>> at = theory.alpha_f_tilde(L.alpha_f_S, 8)
-    >>> etc = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8, N=5,
-    ...                                theta_true=[1.2, 1.0])
+    >>> etc = orrc.EstimateThenControl(orrc.ParametricSystem.linear(1, 1), ex.cost, M=8,
+    ...                                N=5, theta_true=[1.2, 1.0])
     >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
     >>> traj = orrc.simulate(ex.system, etc, ex.x0, w, 50)
-    >>> theorem2 = checks.theorem2_margin(traj, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar, k.gamma_c,
-    ...                                   L.alpha_V, L.alpha_kappa, L.alpha_c, at)
+    >>> theorem2 = checks.theorem2_margin(traj, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar,
+    ...                                   k.gamma_c, L.alpha_V, L.alpha_kappa,
+    ...                                   L.alpha_c, at)
     >>> theorem2.margin.shape, theorem2.holds()
     ((45,), True)
     """

@@ -76,7 +76,8 @@ class Observation:
     ...     def control(self, obs):
     ...         return orrc.Decision(u=np.array([-self.k * obs.x[0]]))
     >>> ex = orrc.examples.scalar_unstable(A=2.0, B=1.0)
-    >>> traj = orrc.simulate(ex.system, Proportional(1.5), ex.x0, np.zeros((10, 1)), T=10, costs=ex.cost)
+    >>> traj = orrc.simulate(ex.system, Proportional(1.5), ex.x0, np.zeros((10, 1)), T=10,
+    ...                      costs=ex.cost)
     >>> traj.x[:4, 0]   # x+ = (2 - 1.5) x
     array([1.   , 0.5  , 0.25 , 0.125])
     """
@@ -147,7 +148,8 @@ class Controller:
     ...     def control(self, obs):
     ...         return orrc.Decision(u=np.array([-self.k * obs.x[0]]))
     >>> ex = orrc.examples.scalar_unstable(A=2.0, B=1.0)
-    >>> traj = orrc.simulate(ex.system, Proportional(1.5), ex.x0, np.zeros((10, 1)), T=10, costs=ex.cost)
+    >>> traj = orrc.simulate(ex.system, Proportional(1.5), ex.x0, np.zeros((10, 1)), T=10,
+    ...                      costs=ex.cost)
     >>> traj.x[:4, 0]   # x+ = (2 - 1.5) x
     array([1.   , 0.5  , 0.25 , 0.125])
     """

@@ -118,7 +118,8 @@ class Clairvoyant(Controller):
     >>> import orrc
     >>> di = orrc.examples.double_integrator()
     >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
-    >>> best = orrc.simulate(di.system, orrc.Clairvoyant(di.system, di.cost, T=50), di.x0, w, T=50)
+    >>> best = orrc.simulate(di.system, orrc.Clairvoyant(di.system, di.cost, T=50),
+    ...                      di.x0, w, T=50)
     >>> print(f"{best.costs.sum():.4f}")
     9.6894
     """

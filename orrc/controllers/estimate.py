@@ -38,8 +38,8 @@ class Excitation(Controller):
     >>> from orrc.controllers import Excitation
     >>> from orrc.estimation import prbs
     >>> di = orrc.examples.double_integrator()
-    >>> traj = orrc.simulate(di.system, Excitation(prbs(30, 1, seed=0), cost=di.cost), di.x0,
-    ...                      np.zeros((30, 2)), T=30)
+    >>> traj = orrc.simulate(di.system, Excitation(prbs(30, 1, seed=0), cost=di.cost),
+    ...                      di.x0, np.zeros((30, 2)), T=30)
     >>> traj.u[:4, 0]
     array([ 1.,  1., -1., -1.])
     """

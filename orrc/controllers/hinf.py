@@ -70,7 +70,8 @@ def preview_buffer_system(A, B, Q, k: int):
     >>> from orrc.controllers import gpc
     >>> di = orrc.examples.double_integrator()
     >>> from orrc.controllers import hinf
-    >>> A_bar, B_bar, Q_bar, E_bar = hinf.preview_buffer_system(di.system.A, di.system.B, di.cost.Q, 2)
+    >>> A_bar, B_bar, Q_bar, E_bar = hinf.preview_buffer_system(di.system.A,
+    ...                                                         di.system.B, di.cost.Q, 2)
     >>> A_bar.shape, E_bar.shape
     ((6, 6), (6, 2))
     """
@@ -130,7 +131,8 @@ class HInfinity(Controller):
     >>> di = orrc.examples.double_integrator()
     >>> w = orrc.disturbances.uniform_ball(L=60, n=2, radius=0.1, seed=0)
     >>> hinf = orrc.HInfinity(di.system, di.cost, preview=3)
-    >>> print(f"{hinf.gamma:.2f}", f"{orrc.simulate(di.system, hinf, di.x0, w, T=50).costs.sum():.4f}")
+    >>> print(f"{hinf.gamma:.2f}",
+    ...       f"{orrc.simulate(di.system, hinf, di.x0, w, T=50).costs.sum():.4f}")
     29.95 36.8312
     """
 

@@ -82,7 +82,8 @@ class LiftedRHC(Controller):
     >>> for k in range(40):
     ...     X[k + 1] = di.system.step(X[k], U[k], W[k])
     >>> model = edmd(X, U, polynomial_dictionary(2, 1), W=W)
-    >>> traj = orrc.simulate(di.system, orrc.LiftedRHC(model, di.cost, M=10), di.x0, w, T=50)
+    >>> traj = orrc.simulate(di.system, orrc.LiftedRHC(model, di.cost, M=10), di.x0,
+    ...                      w, T=50)
     >>> traj.x.shape
     (51, 2)
     """

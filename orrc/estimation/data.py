@@ -37,7 +37,8 @@ class RankWarning(UserWarning):
     >>> from orrc import estimation
     >>> with warnings.catch_warnings(record=True) as caught:
     ...     warnings.simplefilter("always")
-    ...     X, U, W = np.zeros((6, 2)), np.zeros((5, 1)), np.zeros((5, 2))   # no excitation at all
+    ...     # no excitation at all
+    ...     X, U, W = np.zeros((6, 2)), np.zeros((5, 1)), np.zeros((5, 2))
     ...     est = estimation.least_squares_linear(X, U, W, rank_deficient='warn')
     >>> [w.category.__name__ for w in caught], est.rank, est.rank_needed
     (['RankWarning'], 0, 3)

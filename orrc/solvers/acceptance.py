@@ -109,8 +109,9 @@ def acceptance_function(z, g, p, U, J_roll, X_roll, lbz, ubz, state_bounded: boo
     >>> import numpy as np
     >>> from orrc.solvers.acceptance import acceptance_function, rejection
     >>> u, x1, x, U = (ca.SX.sym(s) for s in ("u", "x1", "x", "U"))
-    >>> check = acceptance_function(ca.vertcat(u, x1), x1 - (x + u), x, U, U**2 + (x + U)**2,
-    ...                             x + U, [-1.0, -np.inf], [1.0, np.inf], False, [1, 1])
+    >>> check = acceptance_function(ca.vertcat(u, x1), x1 - (x + u), x, U,
+    ...                             U**2 + (x + U)**2, x + U, [-1.0, -np.inf],
+    ...                             [1.0, np.inf], False, [1, 1])
     >>> quantities, guess = check([-0.5, 0.5], 0.0, [0.0, 0.0], 1.0, 1.0, 0.0, 0.5)
     >>> quantities      # the minimiser (cost 0.5) is accepted: the last entry is 1
     DM([0, 1, 1, 1, 0, 1, 1])

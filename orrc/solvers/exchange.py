@@ -97,10 +97,12 @@ class ScenarioExchange:
     >>> import numpy as np
     >>> import orrc
     >>> from orrc.solvers.exchange import ScenarioExchange
-    >>> system, cost = orrc.LinearSystem([[1.0]], [[1.0]]), orrc.QuadraticCost([[1.0]], [[0.1]])
+    >>> system = orrc.LinearSystem([[1.0]], [[1.0]])
+    >>> cost = orrc.QuadraticCost([[1.0]], [[0.1]])
     >>> W = orrc.Box([-0.5], [0.5])
     >>> exchange = ScenarioExchange(system, cost, 3, W)
-    >>> plan = exchange.solve(np.ones(1), np.broadcast_to(cost.default_params, (3, cost.n_params)))
+    >>> plan = exchange.solve(np.ones(1),
+    ...                       np.broadcast_to(cost.default_params, (3, cost.n_params)))
     >>> bool(plan.success and plan.upper - plan.lower <= 1e-6 * plan.upper)
     True
     >>> exact = orrc.MinMaxRHC(system, cost, 3, W, method="exact").plan(np.ones(1))

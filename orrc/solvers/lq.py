@@ -53,7 +53,8 @@ def riccati_step(A, B, P_next, Q, R):
     >>> di = orrc.examples.double_integrator()
     >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
     >>> from orrc.solvers import lq
-    >>> P, K, S_inv = lq.riccati_step(A, B, np.zeros((2, 2)), Q, R)   # the last step: P_j = Q, K_j = 0
+    >>> # the last step: P_j = Q, K_j = 0
+    >>> P, K, S_inv = lq.riccati_step(A, B, np.zeros((2, 2)), Q, R)
     >>> bool(np.allclose(P, Q)), K.shape
     (True, (1, 2))
     """
@@ -187,7 +188,8 @@ def solve(A, B, Qs, Rs, x, W, Pf=None):
     >>> di = orrc.examples.double_integrator()
     >>> A, B, Q, R = di.system.A, di.system.B, di.cost.Q, di.cost.R
     >>> from orrc.solvers import lq
-    >>> U, X, V = lq.solve(A, B, np.array([Q] * 5), np.array([R] * 5), np.array([1.0, 0.0]), np.zeros((5, 2)))
+    >>> U, X, V = lq.solve(A, B, np.array([Q] * 5), np.array([R] * 5), np.array([1.0, 0.0]),
+    ...                    np.zeros((5, 2)))
     >>> U.shape, X.shape, round(V, 4)
     ((5, 1), (6, 2), 4.9199)
     """

@@ -27,7 +27,8 @@ class SolverWarning(UserWarning):
     >>> import warnings
     >>> import orrc
     >>> ex = orrc.examples.inverted_pendulum()
-    >>> rhc = orrc.PreviewRHC(ex.system, ex.cost, M=10, input_bounds=ex.input_bounds, max_failures=None,
+    >>> rhc = orrc.PreviewRHC(ex.system, ex.cost, M=10, input_bounds=ex.input_bounds,
+    ...                       max_failures=None,
     ...                       solver_options={"sqpmethod.max_iter": 1, "ipopt.max_iter": 1})
     >>> w = orrc.disturbances.zero(15, 2)
     >>> with warnings.catch_warnings(record=True) as caught:

@@ -242,7 +242,8 @@ class ScenarioTree:
         >>> from orrc.solvers.scenario_tree import ScenarioTree
         >>> ex = orrc.examples.scalar_unstable(A=1.2)
         >>> tree = ScenarioTree(ex.system, ex.cost, 3, orrc.Box(-0.3, 0.3))
-        >>> # equal weights: the least expected cost when the signs are fair coin flips, 0.09 (P_1 + P_2)
+        >>> # equal weights: the least expected cost when the signs are fair coin flips,
+        >>> # 0.09 (P_1 + P_2)
         >>> round(tree.dual_bound(np.zeros(1), np.ones(4)), 6)
         0.2448
         """

@@ -47,8 +47,8 @@ def weighted_tree_value(A, B, Qs, Rs, verts, off, parent, weights, x) -> float:
     >>> A, B, I = np.array([[1.2]]), np.array([[1.0]]), np.eye(1)
     >>> verts = np.array([[-0.3], [0.3]])
     >>> off, parent = np.array([0, 1, 3, 7]), np.array([0, 0, 1, 1, 2, 2])
-    >>> round(weighted_tree_value(A, B, [I] * 3, [I] * 3, verts, off, parent, np.full(4, 0.25),
-    ...                           np.zeros(1)), 6)
+    >>> round(weighted_tree_value(A, B, [I] * 3, [I] * 3, verts, off, parent,
+    ...                           np.full(4, 0.25), np.zeros(1)), 6)
     0.2448
     """
     M = len(off) - 1

@@ -80,7 +80,8 @@ class WarmSQP:
     >>> from orrc.solvers.warm_sqp import WarmSQP
     >>> ex = orrc.examples.inverted_pendulum()
     >>> rhc = orrc.PreviewRHC(ex.system, ex.cost, M=10, input_bounds=ex.input_bounds)
-    >>> warm = WarmSQP(rhc.nlp, np.broadcast_to(ex.cost.default_params, (10, ex.cost.n_params)))
+    >>> warm = WarmSQP(rhc.nlp,
+    ...                np.broadcast_to(ex.cost.default_params, (10, ex.cost.n_params)))
     >>> T = 5
     >>> X, U = np.zeros((T + 1, 2)), np.zeros((T, 1))
     >>> V, times, iters = np.zeros(T), np.zeros(T), np.zeros(T, dtype=int)
@@ -93,7 +94,7 @@ class WarmSQP:
     5
     >>> bool(abs(V[0] - rhc.plan(ex.x0, np.zeros((10, 2))).value) < 1e-6 * V[0])
     True
-    >>> bool(np.all(np.diff(V) < 0))                       # the value decreases along the loop
+    >>> bool(np.all(np.diff(V) < 0))   # the value decreases along the loop
     True
     >>> plan = warm.plan(X[T - 1], V[T - 1])               # the last accepted answer
     >>> plan.inputs.shape, plan.states.shape, plan.solver

@@ -122,7 +122,8 @@ def lemma2_coefficients(M, H, a, alpha_hi, gamma_bar, b) -> np.ndarray:
     Examples
     --------
     >>> from orrc import theory
-    >>> theory.lemma2_coefficients(M=6, H=6, a=0.9, alpha_hi=2.0, gamma_bar=1.0, b=1.5).shape
+    >>> theory.lemma2_coefficients(M=6, H=6, a=0.9, alpha_hi=2.0,
+    ...                            gamma_bar=1.0, b=1.5).shape
     (11,)
     """
     M = _M(M)
@@ -181,8 +182,8 @@ def lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar) -> f
     --------
     >>> from orrc import theory
     >>> import numpy as np
-    >>> print(round(theory.lemma2_bound(1.0, np.zeros((11, 2)), M=6, H=6, a=0.9, alpha_lo=1.0,
-    ...                                  alpha_hi=2.0, gamma_bar=1.0), 6))
+    >>> print(round(theory.lemma2_bound(1.0, np.zeros((11, 2)), M=6, H=6, a=0.9,
+    ...                                 alpha_lo=1.0, alpha_hi=2.0, gamma_bar=1.0), 6))
     1.062882
     """
     M, a, alpha_lo, alpha_hi, gamma_bar = _lemma2_setting(M, a, alpha_lo, alpha_hi, gamma_bar)

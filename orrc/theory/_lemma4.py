@@ -82,8 +82,8 @@ def Gamma_V_theta(M, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_ti
     Examples
     --------
     >>> from orrc import theory
-    >>> print(round(theory.Gamma_V_theta(6, 1.0, 2.0, alpha_V=0.5, alpha_kappa=0.5, alpha_c=1.0,
-    ...                                   alpha_tilde_f=2.48832), 6))
+    >>> print(round(theory.Gamma_V_theta(6, 1.0, 2.0, alpha_V=0.5, alpha_kappa=0.5,
+    ...                                  alpha_c=1.0, alpha_tilde_f=2.48832), 6))
     9.70912
     """
     M = as_int("M", M, minimum=2)
@@ -130,8 +130,9 @@ def lemma4_bound(sigma_t, w_energy, theta_error, M, alpha_lo, alpha_hi, gamma_ba
     Examples
     --------
     >>> from orrc import theory
-    >>> print(round(theory.lemma4_bound(1.0, 0.1, 0.01, 6, 1.0, 2.0, 1.0, alpha_V=0.5, alpha_kappa=0.5,
-    ...                                  alpha_c=1.0, alpha_tilde_f=2.48832), 6))
+    >>> print(round(theory.lemma4_bound(1.0, 0.1, 0.01, 6, 1.0, 2.0, 1.0, alpha_V=0.5,
+    ...                                 alpha_kappa=0.5, alpha_c=1.0,
+    ...                                 alpha_tilde_f=2.48832), 6))
     0.037091
     """
     sigma_t = _nonneg("sigma_t", sigma_t)

@@ -116,8 +116,9 @@ def theorem1_constant(sigma0, w, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma) 
     --------
     >>> from orrc import theory
     >>> import numpy as np
-    >>> print(round(theory.theorem1_constant(1.0, np.zeros((20, 2)), T=10, M=6, a=0.9, alpha_lo=1.0,
-    ...                                       alpha_hi=2.0, gamma_bar=1.0, gamma=250.0), 6))
+    >>> print(round(theory.theorem1_constant(1.0, np.zeros((20, 2)), T=10, M=6, a=0.9,
+    ...                                      alpha_lo=1.0, alpha_hi=2.0, gamma_bar=1.0,
+    ...                                      gamma=250.0), 6))
     13.026431
     """
     s = _theorem1_setting(sigma0, T, M, a, alpha_lo, alpha_hi, gamma_bar, gamma)

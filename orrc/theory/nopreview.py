@@ -332,8 +332,9 @@ def theorem3_constant(sigma0, T, M, a, alpha_lo, alpha_hi_W, gamma_bar_W, w_max_
     Examples
     --------
     >>> from orrc import theory
-    >>> print(round(theory.theorem3_constant(1.0, T=10, M=6, a=0.9, alpha_lo=1.0, alpha_hi_W=2.0,
-    ...                                       gamma_bar_W=1.0, w_max_sq=0.01, gamma=20.0), 6))
+    >>> print(round(theory.theorem3_constant(1.0, T=10, M=6, a=0.9, alpha_lo=1.0,
+    ...                                      alpha_hi_W=2.0, gamma_bar_W=1.0, w_max_sq=0.01,
+    ...                                      gamma=20.0), 6))
     11.614581
     """
     M, a, alpha_lo, alpha_hi_W, gamma_bar_W = _theorem3_setting(M, a, alpha_lo, alpha_hi_W, gamma_bar_W)

@@ -82,8 +82,8 @@ def lemma5_c(M, a, alpha_lo, alpha_hi, alpha_V, alpha_kappa, alpha_c, alpha_tild
     Examples
     --------
     >>> from orrc import theory
-    >>> print(round(theory.lemma5_c(6, 0.9, 1.0, 2.0, alpha_V=0.5, alpha_kappa=0.5, alpha_c=1.0,
-    ...                              alpha_tilde_f=2.48832), 6))
+    >>> print(round(theory.lemma5_c(6, 0.9, 1.0, 2.0, alpha_V=0.5, alpha_kappa=0.5,
+    ...                             alpha_c=1.0, alpha_tilde_f=2.48832), 6))
     9.75912
     """
     M, a, alpha_lo, alpha_hi, _ = known._lemma2_setting(M, a, alpha_lo, alpha_hi, 1.0)
@@ -167,8 +167,8 @@ def lemma5_bound(sigma_t, w_window, theta_error, M, H, a, alpha_lo, alpha_hi, ga
     --------
     >>> from orrc import theory
     >>> import numpy as np
-    >>> print(round(theory.lemma5_bound(1.0, np.zeros((11, 2)), 0.01, 6, 6, 0.9, 1.0, 2.0, 1.0, 0.5, 0.5,
-    ...                                  1.0, 2.48832), 6))
+    >>> print(round(theory.lemma5_bound(1.0, np.zeros((11, 2)), 0.01, 6, 6, 0.9, 1.0, 2.0,
+    ...                                 1.0, 0.5, 0.5, 1.0, 2.48832), 6))
     1.522812
     """
     base = known.lemma2_bound(sigma_t, w_window, M, H, a, alpha_lo, alpha_hi, gamma_bar)
@@ -189,9 +189,11 @@ class Theorem2Bound(NamedTuple):
     --------
     >>> import numpy as np
     >>> from orrc import theory
-    >>> bound = theory.theorem2_constant(np.ones(5), np.zeros((30, 2)), 1.0, 0.01, T=20, N=5, M=6, a=0.9,
-    ...                                  alpha_lo=1.0, alpha_hi=2.0, gamma_bar=1.0, gamma=250.0, alpha_V=0.5,
-    ...                                  alpha_kappa=0.5, alpha_c=1.0, alpha_tilde_f=2.48832)
+    >>> bound = theory.theorem2_constant(np.ones(5), np.zeros((30, 2)), 1.0, 0.01, T=20,
+    ...                                  N=5, M=6, a=0.9, alpha_lo=1.0, alpha_hi=2.0,
+    ...                                  gamma_bar=1.0, gamma=250.0, alpha_V=0.5,
+    ...                                  alpha_kappa=0.5, alpha_c=1.0,
+    ...                                  alpha_tilde_f=2.48832)
     >>> bound.estimation
     5.0
     """
@@ -257,9 +259,11 @@ def theorem2_constant(estimation_costs, w, sigma_N, theta_error, T, N, M, a, alp
     --------
     >>> from orrc import theory
     >>> import numpy as np
-    >>> bound = theory.theorem2_constant(np.ones(5), np.zeros((30, 2)), 1.0, 0.01, T=20, N=5, M=6, a=0.9,
-    ...                                  alpha_lo=1.0, alpha_hi=2.0, gamma_bar=1.0, gamma=250.0, alpha_V=0.5,
-    ...                                  alpha_kappa=0.5, alpha_c=1.0, alpha_tilde_f=2.48832)
+    >>> bound = theory.theorem2_constant(np.ones(5), np.zeros((30, 2)), 1.0, 0.01, T=20,
+    ...                                  N=5, M=6, a=0.9, alpha_lo=1.0, alpha_hi=2.0,
+    ...                                  gamma_bar=1.0, gamma=250.0, alpha_V=0.5,
+    ...                                  alpha_kappa=0.5, alpha_c=1.0,
+    ...                                  alpha_tilde_f=2.48832)
     >>> print(round(bound.estimation, 4), round(bound.total, 4))
     5.0 27.8108
     """

@@ -49,7 +49,8 @@ def metric_bars(rows, metric: str, title: str | None = None, log: bool | None = 
     >>> from orrc.comparison import compare
     >>> ex = orrc.examples.scalar_unstable()
     >>> w = orrc.disturbances.uniform_ball(12, 1, 1.0, seed=0)
-    >>> rows = compare(ex.system, ex.cost, {"LQR": orrc.LQR(ex.system, ex.cost)}, w, 10, 1.0)
+    >>> rows = compare(ex.system, ex.cost, {"LQR": orrc.LQR(ex.system, ex.cost)}, w,
+    ...                10, 1.0)
     >>> fig = metric_bars(rows, "cost")
     """
     from ..comparison import ComparisonRow
@@ -88,8 +89,35 @@ def metric_bars(rows, metric: str, title: str | None = None, log: bool | None = 
 
 
 def preview_decay(pv, title: str | None = None) -> Figure:
-    """regret(k) − regret(M) of preview RHC against k (dots, log scale), the fitted C r^k (line) and
-    the slope λ_K² of the literature, λ_K the spectral radius of A − BK (dashed, through the first point)."""
+    """The value of preview: the excess dynamic regret of preview RHC with k previewed disturbances
+    over full preview, regret(k) − regret(M), against k on a log scale (dots), with the fitted
+    C r^k (line) and the rate λ_K^{2k} of the literature, λ_K the spectral radius of A − BK
+    (dashed, through the first point).
+
+    Parameters
+    ----------
+    pv : :class:`orrc.comparison.PreviewValue`
+        From :func:`orrc.comparison.preview_value`.
+    title : str, optional
+        The axes' title.
+
+    Returns
+    -------
+    Figure
+        One panel on a log scale, its legend below it.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import comparison
+    >>> from orrc.viz import comparison_plots
+    >>> ex = orrc.examples.scalar_unstable()
+    >>> w = orrc.disturbances.uniform_ball(30, 1, 1.0, seed=0)
+    >>> pv = comparison.preview_value(ex.system, ex.cost, 6, [0, 1, 2, 3, 6], w, T=20)
+    >>> fig = comparison_plots.preview_decay(pv, title="scalar system")
+    >>> fig.axes[0].get_yscale(), fig.axes[0].get_xlabel()
+    ('log', 'previewed disturbances k')
+    """
     from ..comparison import PreviewValue
 
     if not isinstance(pv, PreviewValue):
@@ -113,7 +141,40 @@ def preview_decay(pv, title: str | None = None) -> Figure:
 
 
 def running_cost(trajs: dict, title: str | None = None, fast: bool = False) -> Figure:
-    """Σ_{s<=t} c_s against t for each trajectory (label -> Trajectory)."""
+    """The running cost Σ_{s<=t} c_s against t, one curve per trajectory (the clairvoyant optimum
+    dashed): the quantity whose final value the comparisons rank.
+
+    Parameters
+    ----------
+    trajs : dict
+        Label -> :class:`orrc.Trajectory`; a label's colour follows
+        :func:`orrc.viz.plots.controller_color`.
+    title : str, optional
+        The axes' title.
+    fast : bool
+        A fixed layout instead of the constrained one (for explorer frames drawn many times).
+
+    Returns
+    -------
+    Figure
+        One panel, the legend in its upper left corner.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.viz import comparison_plots
+    >>> ex = orrc.examples.scalar_unstable()
+    >>> w = orrc.disturbances.uniform_ball(20, 1, 1.0, seed=0)
+    >>> runs = {"LQR": orrc.simulate(ex.system, orrc.LQR(ex.system, ex.cost), ex.x0, w,
+    ...                              T=20),
+    ...         "clairvoyant optimum": orrc.simulate(ex.system,
+    ...                                              orrc.Clairvoyant(ex.system, ex.cost,
+    ...                                                               T=20), ex.x0,
+    ...                                              w, T=20)}
+    >>> fig = comparison_plots.running_cost(runs, title="i.i.d.")
+    >>> [line.get_linestyle() for line in fig.axes[0].get_lines()]
+    ['-', '--']
+    """
     trajs = _trajs(_nonempty_dict("trajs", trajs, "Trajectory"))
     fig, axes = _figure(width=6.5, height=3.4, fast=fast, margins={"left": 0.12, "bottom": 0.15})
     ax = axes[0, 0]

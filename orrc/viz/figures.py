@@ -187,7 +187,8 @@ def render(fig, dpi: int = DPI, close: bool = True) -> tuple[bytes, bytes | None
     >>> _ = ax.legend()
     >>> from orrc.viz import figures
     >>> wide, narrow = figures.render(fig, close=False)
-    >>> figures._png_width(wide), figures._png_width(narrow)     # pixels: 7 in and 3.4 in at 100 dpi
+    >>> # pixels: 7 in and 3.4 in at 100 dpi
+    >>> figures._png_width(wide), figures._png_width(narrow)
     (700, 340)
     """
     from .._validate import as_int
@@ -346,8 +347,10 @@ def figure_html(fig, dpi: int = DPI, close: bool = True) -> str:
     >>> _ = ax.legend()
     >>> from orrc.viz import figures
     >>> html = figures.figure_html(fig, close=False)
-    >>> html.startswith('<div class="orrc-figure"'), 'alt="A run: t on the horizontal axis' in html
-    (True, True)
+    >>> html.startswith('<div class="orrc-figure"')
+    True
+    >>> 'alt="A run: t on the horizontal axis' in html
+    True
     """
     from .describe import describe
 

@@ -21,17 +21,39 @@ __all__ = ["pareto_curves", "horizon_threshold", "lemma1_check"]
 
 
 def pareto_curves(constants: dict, title: str | None = None, gamma_c: bool = True) -> Figure:
-    """The admissible pairs of the class condition V_M(x, W) <= ᾱ σ(x) + γ̄ Σ_k ‖w_k‖² (Section 5.1),
-    measured against the horizon threshold.
+    """The admissible pairs (γ̄, ᾱ) of the class condition V_M(x, W) <= ᾱ σ(x) + γ̄ Σ_k ‖w_k‖²
+    (Section 5.1, Lemma 1), measured against the horizon threshold.
 
-    ``constants``: label -> :class:`orrc.certify.Constants` (one per horizon M). Left: the
-    Pareto curve as ᾱ(γ̄) / (α_lo √(M-1)) against γ̄ on log-log axes (every pair on or above
-    the curve is admissible): Lemma 1's Γ_V is negative, and Lemma 2 and Theorem 1 apply,
-    exactly where it is below 1 (M > ᾱ²/α_lo² + 1). The curves of different M then
-    separate, although ᾱ(γ̄) itself hardly changes with M. The star is the chosen pair (the
-    one that minimises γ_c; the knee, the smallest product ᾱ γ̄, when no pair is below 1).
-    Right: Theorem 1's γ_c along each curve (with a = min_decay_rate), finite only below 1;
-    ``gamma_c=False`` leaves this panel out (for a page that has not met Theorem 1 yet).
+    Left: the Pareto curve as ᾱ(γ̄) / (α_lo √(M-1)) against γ̄ on log-log axes (every pair on or
+    above the curve is admissible): Lemma 1's Γ_V is negative, and Lemma 2 and Theorem 1 apply,
+    exactly where it is below 1 (M > ᾱ²/α_lo² + 1). The curves of different M then separate,
+    although ᾱ(γ̄) itself hardly changes with M. The star is the chosen pair (the one that
+    minimises γ_c; the knee, the smallest product ᾱ γ̄, when no pair is below 1). Right: Theorem
+    1's γ_c along each curve (with a = min_decay_rate), finite only below 1.
+
+    Parameters
+    ----------
+    constants : dict label -> :class:`orrc.certify.Constants`, one per horizon M (with their
+        Pareto curves, as :func:`orrc.certify.lq_constants` returns them).
+    title : optional title above the panels.
+    gamma_c : draw the right panel (Theorem 1's γ_c); False leaves it out, for a page that has
+        not met Theorem 1 yet.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, or one with ``gamma_c=False``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> from orrc.viz import theory_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> ks = {f"M = {M}": certify.lq_constants(ex.system, ex.cost, M=M) for M in (4, 8)}
+    >>> fig = theory_plots.pareto_curves(ks, gamma_c=False)
+    >>> len(fig.axes), fig.axes[0].get_xscale()
+    (1, 'log')
     """
     from matplotlib.ticker import LogLocator, NullFormatter
 
@@ -99,11 +121,29 @@ def pareto_curves(constants: dict, title: str | None = None, gamma_c: bool = Tru
 
 
 def horizon_threshold(Ms, alpha_hi, alpha_lo, M_star: int | None = None) -> Figure:
-    """The horizon condition M > ᾱ²/α_lo² + 1 (Lemma 1's Γ_V < 0; Lemma 2, Theorem 1) when ᾱ
-    depends on M: ``alpha_hi[i]`` is the smallest admissible ᾱ at horizon ``Ms[i]``.
+    """The horizon condition of Lemma 1, M > ᾱ²/α_lo² + 1 (Γ_V < 0; Lemma 2, Theorem 1), when ᾱ
+    depends on M: the required horizon ᾱ(M)²/α_lo² + 1 against M with the diagonal. M is
+    certified where the curve is below the diagonal.
 
-    Draws the required horizon ᾱ(M)²/α_lo² + 1 against M with the diagonal: M is certified
-    where the curve is below the diagonal. ``M_star``: the smallest certified M, marked.
+    Parameters
+    ----------
+    Ms : the horizons M.
+    alpha_hi : the smallest admissible ᾱ at each horizon, aligned with ``Ms``.
+    alpha_lo : the lower constant α_lo of Lemma 1, > 0.
+    M_star : optional smallest certified M, marked.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> from orrc.viz import theory_plots
+    >>> fig = theory_plots.horizon_threshold([2, 4, 8, 16], [3.0, 2.6, 2.4, 2.3],
+    ...                                      1.0, M_star=8)
+    >>> fig.axes[0].get_xlabel()
+    'horizon $M$'
     """
     Ms = np.array([as_int("M", m, minimum=2) for m in Ms])
     alpha_hi = as_array("alpha_hi", alpha_hi, (len(Ms),))
@@ -156,18 +196,45 @@ _LEMMA1_LABELS = {
 
 def lemma1_check(lemma1, value_bound=None, title: str | None = None, fast: bool = False,
                  labels: dict | None = None, stacked: bool = False) -> Figure:
-    """Lemma 1 along a trajectory, from :func:`orrc.checks.lemma1_margins` (``lemma1``).
+    """Lemma 1 along a trajectory: the value V^t_M(x_t) between its bounds, and its increments
+    under the bound Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖².
 
     Left: V^t_M(x_t) with its lower bound α_lo σ(x_t) (Lemma 1, first part) and, when
-    ``value_bound`` (:func:`orrc.checks.value_bound_margins`) is given, the upper bound
-    ᾱ σ(x_t) + γ̄ Σ_k ‖w_k‖² of the class condition; log scale. Right: the increments
-    V^{t+1}_M - V^t_M and the bound Γ_V σ(x_t) + Γ^γ_V Σ_{k=t}^{t+M-1} ‖w_k‖² (symmetric
-    log scale: increments are often negative). The title gives Γ_V, Γ^γ_V and the
-    smallest margin. ``labels`` replaces some of the legend's and title's labels (keys of
-    ``_LEMMA1_LABELS``: value, upper, bound, increment, Gamma, Gamma_gamma), for the same check of
-    another lemma (Lemma 6: :func:`orrc.viz.minmax_plots.lemma6_check`). ``stacked``: the two
-    panels one above the other (the book draws every figure that way for a phone anyway);
-    ``fast``: fixed margins (see :func:`orrc.viz.plots._figure`).
+    ``value_bound`` is given, the upper bound ᾱ σ(x_t) + γ̄ Σ_k ‖w_k‖² of the class condition;
+    log scale. Right: the increments V^{t+1}_M − V^t_M and their bound (symmetric log scale:
+    increments are often negative). The title gives Γ_V, Γ^γ_V and the smallest margin.
+
+    Parameters
+    ----------
+    lemma1 : the margins of :func:`orrc.checks.lemma1_margins`.
+    value_bound : optional margins of :func:`orrc.checks.value_bound_margins` (the upper bound).
+    title : optional title above the panels.
+    fast : fixed margins instead of the constrained layout (for explorer frames).
+    labels : optional dict replacing some of the legend's and title's labels (keys value, upper,
+        bound, increment, Gamma, Gamma_gamma), for the same check of another lemma (Lemma 6:
+        :func:`orrc.viz.minmax_plots.lemma6_check`).
+    stacked : the two panels one above the other instead of side by side.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
+    >>> from orrc.viz import theory_plots
+    >>> lemma1 = checks.lemma1_margins(traj, 8, k.alpha_lo, k.alpha_hi, k.gamma_bar)
+    >>> bound = checks.value_bound_margins(traj, 8, k.alpha_hi, k.gamma_bar)
+    >>> fig = theory_plots.lemma1_check(lemma1, bound, title="scalar system, M = 8")
+    >>> len(fig.axes)
+    2
     """
     from ..checks import Lemma1Margins
 

@@ -18,10 +18,32 @@ __all__ = ["lemma2_coefficients", "bounds_vs_actual", "lemma2_frame"]
 
 
 def lemma2_coefficients(coefs: dict, M: int, H: int, ax=None) -> Figure:
-    """The coefficients M_{w,j} of Lemma 2 (:func:`orrc.theory.lemma2_coefficients`) against
-    j - t = 0, ..., H + M - 2, one curve per label (``coefs``: label -> array of length
-    H + M - 1), log scale. Shaded: the window w_t..w_{t+M-1} previewed at the anchor t,
-    the decaying middle, and the disturbances previewed at t + H."""
+    """The coefficients M_{w,j} of Lemma 2's bound on the stage cost c_{t+H}
+    (:func:`orrc.theory.lemma2_coefficients`) against j − t = 0, ..., H + M − 2, one curve per
+    label, on a log scale. Shaded: the window w_t..w_{t+M-1} previewed at the anchor t, the
+    decaying middle, and the disturbances previewed at t + H.
+
+    Parameters
+    ----------
+    coefs : dict label -> array of length H + M − 1, the coefficients.
+    M : the horizon M >= 1.
+    H : the look-ahead H >= 1 of the bound.
+    ax : optional matplotlib axes to draw in (a new figure when None).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure of ``ax``, or a new one-panel figure.
+
+    Examples
+    --------
+    >>> from orrc import theory
+    >>> from orrc.viz import theory_plots
+    >>> c = theory.lemma2_coefficients(M=6, H=6, a=0.9, alpha_hi=2.0, gamma_bar=1.0, b=1.5)
+    >>> fig = theory_plots.lemma2_coefficients({"a = 0.9": c}, M=6, H=6)
+    >>> fig.axes[0].get_yscale()
+    'log'
+    """
     coefs = _nonempty_dict("coefs", coefs)
     M = as_int("M", M, minimum=2)
     H = as_int("H", H, minimum=M)
@@ -47,13 +69,40 @@ def lemma2_coefficients(coefs: dict, M: int, H: int, ax=None) -> Figure:
 def bounds_vs_actual(x, actual, bounds: dict, xlabel: str = "$t$", ylabel: str = "", log: bool = True,
                      title: str | None = None, actual_label: str = "actual", ax=None,
                      legend: str = "best") -> Figure:
-    """A measured sequence (``actual`` at the points ``x``) under one or more bounds
-    (``bounds``: label -> array like ``actual``), on a log scale by default. Used for
-    Lemma 2's bound on the stage cost c_{t+H} (Eq. of Lemma 2) and its parts.
+    """A measured sequence under one or more bounds, on a log scale by default: Lemma 2's bound on
+    the stage cost c_{t+H} and its parts, or any other inequality of the paper checked along a
+    run.
 
-    On a log scale, points where ``actual`` is not positive are left out (a stage cost
-    of exactly 0). ``legend``: "best" (inside the axes) or "below" (under the axes,
-    clear of the data; for figures with several curves).
+    On a log scale, points where ``actual`` is not positive are left out (a stage cost of
+    exactly 0).
+
+    Parameters
+    ----------
+    x : the points (e.g. the steps t) of ``actual``.
+    actual : the measured values, aligned with ``x``.
+    bounds : dict label -> array like ``actual``, one curve each.
+    xlabel, ylabel : the axis labels.
+    log : a logarithmic value axis.
+    title : optional title.
+    actual_label : the legend's label of ``actual``.
+    ax : optional matplotlib axes to draw in (a new figure when None).
+    legend : "best" (inside the axes) or "below" (under the axes, clear of the data; for figures
+        with several curves).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure of ``ax``, or a new one-panel figure.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc.viz import theory_plots
+    >>> t = np.arange(10)
+    >>> fig = theory_plots.bounds_vs_actual(t, 0.5 ** t, {"bound": 2.0 * 0.6 ** t},
+    ...                                     ylabel="$c_{t+H}$")
+    >>> [line.get_label() for line in fig.axes[0].get_lines()]
+    ['bound', 'actual']
     """
     if legend not in ("best", "below"):
         raise OrrcValueError(f'legend must be "best" or "below"; got {legend!r}')
@@ -96,14 +145,44 @@ def _admissible_frame(M: int, a: float, a_min: float, result: str, right_message
 
 def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int | None = None,
                  ylim=None, coef_ylim=None) -> Figure:
-    """One frame of the Lemma 2 explorer for the horizon M and decay rate a.
+    """One frame of the Lemma 2 explorer for the horizon M and the decay rate a.
 
-    When a >= ``a_min`` (:func:`orrc.theory.min_decay_rate`): left, the coefficients
-    M_{w,j} (``coef``, length H + M - 1); right, the stage costs c_{t+H} under Lemma 2's
-    bound along a trajectory (``margins`` from :func:`orrc.checks.lemma2_margins`),
-    against the time t + H. When a < a_min the lemma does not apply and the frame says so.
-    ``ylim``, ``coef_ylim``: fixed limits of the right and left panels, so that frames
-    compare at a glance.
+    When a >= ``a_min``: left, the coefficients M_{w,j}; right, the stage costs c_{t+H} under
+    Lemma 2's bound along a trajectory, against the time t + H. When a < a_min the lemma does not
+    apply and the frame says so.
+
+    Parameters
+    ----------
+    M : the horizon.
+    a : the decay rate of the frame.
+    a_min : the smallest admissible decay rate (:func:`orrc.theory.min_decay_rate`).
+    coef : the coefficients M_{w,j} at (M, a), length H + M − 1.
+    margins : the margins of :func:`orrc.checks.lemma2_margins` at (M, a).
+    H : the look-ahead H >= M. ``coef``, ``margins`` and ``H`` are needed when a >= a_min.
+    ylim, coef_ylim : optional fixed limits of the right and left panels, so that frames compare
+        at a glance.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, or one that says the lemma does not apply.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
+    >>> from orrc import theory
+    >>> from orrc.viz import theory_plots
+    >>> coef = theory.lemma2_coefficients(8, 8, k.a, k.alpha_hi, k.gamma_bar, k.b)
+    >>> lemma2 = checks.lemma2_margins(traj, 8, 8, k.a, k.alpha_lo, k.alpha_hi, k.gamma_bar)
+    >>> fig = theory_plots.lemma2_frame(8, k.a, k.a, coef=coef, margins=lemma2, H=8)
+    >>> len(fig.axes)
+    2
     """
     M, a, a_min, fig, (ax, ax2) = _admissible_frame(M, a, a_min, "Lemma 2", "no bound")
     if ax is None:

@@ -12,6 +12,8 @@ returns a :class:`matplotlib.figure.Figure`, built without pyplot; none of them 
 * :func:`controller_costs` -- total costs of several controllers under several disturbances (bars);
 * :func:`minmax_frame` -- an explorer frame over (M, size of W): the closed-loop costs of the
   controllers and the per-step value with its certified upper bound.
+
+The figures of Lemma 6 and Theorem 3 live in :mod:`orrc.viz.lemma6_plots`; this module gathers them.
 """
 from __future__ import annotations
 
@@ -21,15 +23,11 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
+from .lemma6_plots import _legend_below, lemma6_check, theorem3_growth  # noqa: F401 (Lemma 6, Theorem 3)
 from .style import _figure, _nonempty_dict, _trajs, controller_color
-from .theory_plots import _message, lemma1_check
+from .theory_plots import _message
 
 __all__ = ["bounds_history", "minmax_pareto", "lemma6_check", "theorem3_growth", "controller_costs", "minmax_frame"]
-
-
-def _legend_below(ax, ncol: int = 2, offset: float = -0.2, **kw) -> None:
-    """A frameless legend with 9 pt text centred under the axes (``offset``: its top, in axes fractions)."""
-    ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, offset), ncol=ncol, frameon=False, **kw)
 
 
 def _plans(plans) -> dict:
@@ -46,12 +44,34 @@ def _plans(plans) -> dict:
 
 
 def bounds_history(plans: dict, title: str | None = None) -> Figure:
-    """The bounds on V_{W,M}(x) after each iteration of a min-max solve (``plan.history``).
+    """The bounds on the min-max value V_{W,M}(x) of Algorithm 3 after each iteration of its solve
+    (``plan.history``).
 
-    Top: lower (dots) and upper (squares) bounds divided by the final value, one colour per
-    plan (``plans``: label -> :class:`~orrc.solvers.minmax.MinMaxPlan`). Bottom: the relative gap
-    (upper - lower)/upper on a log scale (a gap of exactly 0 is drawn at 1e-16). The panels are
-    stacked (readable on a phone).
+    Top: lower (dots) and upper (squares) bounds divided by the final value, one colour per plan.
+    Bottom: the relative gap (upper − lower)/upper on a log scale (a gap of exactly 0 is drawn at
+    1e-16). The panels are stacked (readable on a phone).
+
+    Parameters
+    ----------
+    plans : dict label -> :class:`~orrc.solvers.minmax.MinMaxPlan` (from
+        :meth:`orrc.MinMaxRHC.plan`).
+    title : optional title above the panels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, one above the other.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc.viz import minmax_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> plan = orrc.MinMaxRHC(ex.system, ex.cost, 6, W).plan([1.0])
+    >>> fig = minmax_plots.bounds_history({"box ±0.5": plan})
+    >>> len(fig.axes), fig.axes[1].get_yscale()
+    (2, 'log')
     """
     plans = _plans(plans)
     fig, axes = _figure(2, 1, width=6.4, height=7.6)
@@ -81,14 +101,41 @@ def bounds_history(plans: dict, title: str | None = None) -> Figure:
 
 
 def minmax_pareto(constants, preview=None, title: str | None = None) -> Figure:
-    """The pairs (γ̄_W, ᾱ_W) with V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖² (the class of Lemma 6).
+    """The pairs (γ̄_W, ᾱ_W) of the class of Lemma 6, V_{W,M}(x) <= ᾱ_W σ(x) + γ̄_W max‖w‖², on log
+    axes.
 
-    ``constants``: :class:`~orrc.certify.MinMaxConstants`. Drawn on log axes: its curve (certified,
-    or sampled for an estimate), the lower curve of exact samples (``info["lower_pareto"]``, when
-    present: the true curve lies between), the chosen pair (star), the horizon threshold
-    ᾱ_W < α_lo √(M-1) (dotted) and, when ``preview`` (:class:`~orrc.certify.Constants` of the
-    preview problem at the same M) is given, the paper's pair (γ̄ M, ᾱ) (a cross) and the
-    smallest admissible γ̄_W, V_{W,M}(0)/max‖w‖² (dashed vertical line).
+    Drawn: the curve of ``constants`` (certified, or sampled for an estimate), the lower curve of
+    exact samples (``info["lower_pareto"]``, when present: the true curve lies between), the
+    chosen pair (star), the horizon threshold ᾱ_W < α_lo √(M−1) (dotted) and, when ``preview``
+    is given, the paper's pair (γ̄ M, ᾱ) (a cross) and the smallest admissible γ̄_W,
+    V_{W,M}(0)/max‖w‖² (dashed vertical line).
+
+    Parameters
+    ----------
+    constants : the :class:`~orrc.certify.MinMaxConstants` of
+        :func:`orrc.certify.minmax_constants`.
+    preview : optional :class:`~orrc.certify.Constants` of the preview problem at the same M
+        (:func:`orrc.certify.lq_constants`).
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> from orrc.viz import minmax_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)
+    >>> fig = minmax_plots.minmax_pareto(k,
+    ...                                  preview=certify.lq_constants(ex.system,
+    ...                                                               ex.cost, 6))
+    >>> fig.axes[0].get_xscale(), fig.axes[0].get_yscale()
+    ('log', 'log')
     """
     from ..certify import Constants, MinMaxConstants
 
@@ -134,78 +181,31 @@ def minmax_pareto(constants, preview=None, title: str | None = None) -> Figure:
     return fig
 
 
-def lemma6_check(lemma6, value_bound=None, title: str | None = None, fast: bool = False) -> Figure:
-    """Lemma 6 along a trajectory of Algorithm 3, from :func:`orrc.checks.lemma6_margins` (``lemma6``).
-
-    Top: V^t_{W,M}(x_t) with its lower bound α_lo σ(x_t) and, when ``value_bound``
-    (:func:`orrc.checks.minmax_value_bound_margins`) is given, the upper bound ᾱ_W σ(x_t) +
-    γ̄_W max‖w‖² (log scale). Bottom: the increments V^{t+1} - V^t and the bound
-    Γ_{W,V} σ(x_t) + Γ^γ_{W,V} max‖w‖² (symmetric log scale). The title gives the smallest margin.
-    The figure of Lemma 1 (:func:`orrc.viz.theory_plots.lemma1_check`) with Lemma 6's labels, stacked.
-    """
-    from ..checks import Lemma1Margins
-
-    if not isinstance(lemma6, Lemma1Margins):
-        raise OrrcValueError(f"lemma6 must be the result of orrc.checks.lemma6_margins; got {type(lemma6).__name__}")
-    return lemma1_check(lemma6, value_bound, title=title, fast=fast, stacked=True, labels={
-        "value": r"$V^t_{W,M}(x_t)$",
-        "upper": r"$\overline{\alpha}_W\sigma(x_t) + \overline{\gamma}_W\max\|w\|^2$",
-        "bound": r"bound $\Gamma_{W,V}\sigma(x_t) + \Gamma^\gamma_{W,V}\max\|w\|^2$",
-        "increment": r"$V^{t+1}_{W,M} - V^t_{W,M}$",
-        "Gamma": r"\Gamma_{W,V}",
-        "Gamma_gamma": r"\Gamma^\gamma_{W,V}"})
-
-
-def theorem3_growth(runs: dict, gamma: float, w_max_sq: float, title: str | None = None) -> Figure:
-    """Theorem 3 along trajectories: the cumulative cost against what the theorem allows.
-
-    ``runs``: label -> (:class:`~orrc.Trajectory`, :class:`~orrc.checks.Margins` of
-    :func:`orrc.checks.theorem3_margin` at level ``gamma``). For each run, one colour: the
-    cumulative cost Σ_{t<T} c_t (solid), Theorem 3's bound on it, C_T + γ T max‖w‖² (dashed), and
-    γ Σ_{t<T} ‖w_t‖², the same level applied to the realised disturbance energy (dotted: what a
-    guarantee in terms of the realised energy would allow; Theorem 3 does not give one). Log scale.
-    """
-    from ..checks import Margins
-    from ..simulate import Trajectory
-
-    runs = _nonempty_dict("runs", runs, "(Trajectory, Margins)")
-    gamma = as_float("gamma", gamma, minimum=0.0)
-    w_max_sq = as_float("w_max_sq", w_max_sq, minimum=0.0)
-    from matplotlib.lines import Line2D
-
-    fig, ax = _figure(width=7.0, height=4.4)
-    ax = ax[0, 0]
-    handles = []
-    for i, (label, run) in enumerate(runs.items()):
-        if not (isinstance(run, tuple) and len(run) == 2 and isinstance(run[0], Trajectory)
-                and isinstance(run[1], Margins)):
-            raise OrrcValueError(f"runs[{label!r}] must be a pair (Trajectory, Margins of theorem3_margin)")
-        tr, m = run
-        if len(m.t) != tr.T:
-            raise OrrcValueError(f"runs[{label!r}]: the margins have {len(m.t)} steps, the trajectory {tr.T}")
-        col = f"C{i}"
-        T = m.t.astype(float)
-        positive = lambda v: np.where(v > 0, v, np.nan)  # noqa: E731  (log scale: zeros left out)
-        ax.plot(T, positive(np.cumsum(tr.costs)), color=col, linewidth=1.8)
-        ax.plot(T, positive(m.bound + gamma * T * w_max_sq), color=col, linestyle="--", linewidth=1.2)
-        ax.plot(T, positive(gamma * np.cumsum(np.einsum("ij,ij->i", tr.w, tr.w))), color=col, linestyle=":",
-                linewidth=1.4)
-        handles.append(Line2D([], [], color=col, linewidth=1.8, label=label))
-    handles += [Line2D([], [], color="k", linewidth=1.8, label=r"$\sum_{t<T} c_t$"),
-                Line2D([], [], color="k", linestyle="--", linewidth=1.2,
-                       label=r"Theorem 3: $C_T + \gamma\, T \max\|w\|^2$"),
-                Line2D([], [], color="k", linestyle=":", linewidth=1.4,
-                       label=r"$\gamma \sum_{t<T}\|w_t\|^2$ (not a bound)")]
-    ax.set_yscale("log")
-    ax.set_xlabel("$T$")
-    _legend_below(ax, ncol=2, offset=-0.16, handles=handles)
-    ax.set_title(title or f"Theorem 3 at $\\gamma = \\gamma_{{c,W}} = {gamma:.4g}$", fontsize=10)
-    return fig
-
-
 def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"total cost $\sum_t c_t$") -> Figure:
-    """Grouped bars: ``costs`` maps a disturbance label to {controller label: total cost}; one
-    group per disturbance, one colour per controller (log scale)."""
+    """Grouped bars of total costs, as in the comparisons of Algorithm 3 with the other controllers:
+    one group per disturbance, one colour per controller, on a log scale, each bar with its value
+    (3 significant digits) above it.
+
+    Parameters
+    ----------
+    costs : dict disturbance label -> {controller label: total cost >= 0}.
+    title : optional title.
+    ylabel : the value axis' label.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> from orrc.viz import minmax_plots
+    >>> costs = {"uniform in W": {"min-max RHC": 2.5, "LQR": 2.6},
+    ...          "worst vertex sequence": {"min-max RHC": 9.0, "LQR": 11.0}}
+    >>> fig = minmax_plots.controller_costs(costs, title="T = 30")
+    >>> fig.axes[0].get_yscale(), sorted(t.get_text() for t in fig.axes[0].texts)
+    ('log', ['11', '2.5', '2.6', '9'])
+    """
     costs = _nonempty_dict("costs", costs, "dict of controller -> total cost")
     controllers = []
     for k, d in costs.items():
@@ -217,13 +217,19 @@ def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"tota
     fig, ax = _figure(width=7.0, height=4.0)
     ax = ax[0, 0]
     width = 0.8 / len(controllers)
+    top = 0.0
     for i, c in enumerate(controllers):
         xs = [j + (i - (len(controllers) - 1) / 2) * width for j in range(len(costs))]
-        vals = [costs[k].get(c, np.nan) for k in costs]
-        ax.bar(xs, vals, width=width * 0.95, color=controller_color(c, i), label=c)
+        vals = [float(costs[k].get(c, np.nan)) for k in costs]
+        bars = ax.bar(xs, vals, width=width * 0.95, color=controller_color(c, i), label=c)
+        # each bar shows its value above it
+        ax.bar_label(bars, labels=["" if np.isnan(v) else f"{v:.3g}" for v in vals], padding=2, fontsize=9)
+        top = max([top] + [v for v in vals if np.isfinite(v)])
     ax.set_xticks(range(len(costs)))
     ax.set_xticklabels(list(costs), fontsize=9)
     ax.set_yscale("log")
+    if top > 0:
+        ax.set_ylim(top=top * 3)   # room for the values above the tallest bars
     ax.set_ylabel(ylabel)
     _legend_below(ax, ncol=2, offset=-0.14)
     if title:
@@ -231,16 +237,49 @@ def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"tota
     return fig
 
 
-def minmax_frame(M: int, r: float, trajs: dict, bound=None, w_max_sq: float | None = None) -> Figure:
-    """An explorer frame for the horizon M and the size r of W = [-r, r]^n.
+def minmax_frame(M: int, w_max: float, trajs: dict, bound=None, w_max_sq: float | None = None) -> Figure:
+    """One frame of the min-max explorer for the horizon M and the size w_max of the box
+    W = [−w_max, w_max]^n of Algorithm 3.
 
-    Top: the cumulative cost of each closed loop (``trajs``: label -> :class:`~orrc.Trajectory`,
-    all under the same disturbance). Bottom: the min-max controller's value
-    V^t_{W,M}(x_t) (the trajectory labelled with "min-max") with ``bound`` (an array over t, e.g.
-    ᾱ_W σ(x_t) + γ̄_W max‖w‖²) when given, else a message that no certified pair exists.
+    Top: the cumulative cost of each closed loop, all under the same disturbance. Bottom: the
+    min-max controller's value V^t_{W,M}(x_t) (the trajectory labelled with "min-max") with
+    ``bound`` when given, else a message that no certified pair exists.
+
+    Parameters
+    ----------
+    M : the horizon, >= 1.
+    w_max : the half-width of the box W, >= 0.
+    trajs : dict label -> :class:`~orrc.Trajectory`, all under the same disturbance.
+    bound : optional (T,) upper bound on the value along the min-max run, e.g.
+        ᾱ_W σ(x_t) + γ̄_W max‖w‖² (the ``bound`` of
+        :func:`orrc.checks.minmax_value_bound_margins`).
+    w_max_sq : optional max‖w‖² over W, named in the title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, one above the other.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> from orrc.viz import minmax_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> W = orrc.Box(-0.5, 0.5, n=1)
+    >>> k = certify.minmax_constants(ex.system, ex.cost, 6, W)
+    >>> w = orrc.disturbances.uniform_box(40, 1, -0.5, 0.5, seed=0)
+    >>> minmax = orrc.MinMaxRHC(ex.system, ex.cost, 6, W)
+    >>> traj = orrc.simulate(ex.system, minmax, ex.x0, w, 30)
+    >>> bound = checks.minmax_value_bound_margins(traj, 6, W, k.alpha_hi_W,
+    ...                                           k.gamma_bar_W).bound
+    >>> fig = minmax_plots.minmax_frame(6, 0.5, {"min-max RHC": traj}, bound=bound,
+    ...                                 w_max_sq=0.25)
+    >>> fig.texts[0].get_text()
+    'M = 6, W = [-0.5, 0.5], max‖w‖² = 0.25'
     """
     M = as_int("M", M, minimum=1)
-    r = as_float("r", r, minimum=0.0)
+    w_max = as_float("w_max", w_max, minimum=0.0)
     trajs = _trajs(trajs)
     fig, axes = _figure(2, 1, width=6.4, height=7.4, fast=True,
                         margins={"bottom": 0.14, "top": 0.92, "hspace": 0.75, "left": 0.13, "right": 0.97})
@@ -272,5 +311,5 @@ def minmax_frame(M: int, r: float, trajs: dict, bound=None, w_max_sq: float | No
         ax2.set_title("the min-max value and its certified bound", fontsize=10)
         _legend_below(ax2, ncol=1, offset=-0.22)
     w = "" if w_max_sq is None else f", max‖w‖² = {as_float('w_max_sq', w_max_sq, minimum=0.0):.3g}"
-    fig.suptitle(f"M = {M}, W = [-{r:g}, {r:g}]" + w, fontsize=11)
+    fig.suptitle(f"M = {M}, W = [-{w_max:g}, {w_max:g}]" + w, fontsize=11)
     return fig

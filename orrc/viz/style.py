@@ -19,9 +19,31 @@ _CYCLE = ["tab:blue", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pi
 
 
 def controller_color(label: str, index: int = 0) -> str:
-    """A stable colour per controller: zero input grey, LQR orange, preview RHC blue, min-max RHC
-    red, a game or H∞ controller purple, the clairvoyant optimum black; other labels cycle through a
-    fixed palette."""
+    """A stable colour per controller, so a controller looks the same in every figure of the book:
+    zero input grey, LQR orange, preview RHC (Algorithm 1) blue, min-max RHC (Algorithm 3) red, a
+    game or H∞ controller purple, the clairvoyant optimum black; other labels cycle through a fixed
+    palette.
+
+    Parameters
+    ----------
+    label : the controller's label; matched case-insensitively by the words above ("LQR",
+        "preview", "min-max", "clairvoyant", ...).
+    index : the label's position among the others, which picks the palette colour of a label
+        none of the words match.
+
+    Returns
+    -------
+    str
+        A matplotlib colour.
+
+    Examples
+    --------
+    >>> from orrc.viz.plots import controller_color
+    >>> [controller_color(label) for label in ("LQR", "preview RHC, M = 10")]
+    ['tab:orange', 'tab:blue']
+    >>> controller_color("mine", 1)
+    'tab:green'
+    """
     low = str(label).lower()
     for key, colour in _NAMED.items():
         if key in low:

@@ -28,10 +28,24 @@ def _math_html(text: str) -> str:
 
 
 class Table:
-    """A small table that displays as HTML in notebooks and in the book (a Markdown
-    table of text/markdown would not be rendered by the book's CommonMark output
-    renderer), as Markdown in ``_repr_markdown_`` and as plain text otherwise.
-    Headers and cells may hold ``$...$`` math (typeset by MathJax in the HTML)."""
+    """A small table that displays as HTML in notebooks and in the book, as Markdown in
+    ``_repr_markdown_`` and as plain text otherwise (a Markdown table of text/markdown would not be
+    rendered by the book's CommonMark output renderer). Headers and cells may hold ``$...$`` math,
+    typeset by MathJax in the HTML. Made by :func:`table`, which formats the numbers.
+
+    Parameters
+    ----------
+    headers : list of str, the column headers.
+    rows : list of lists of str, the cells, one list per row (as many cells as headers).
+
+    Examples
+    --------
+    >>> from orrc.viz.plots import Table
+    >>> Table(["$M$", "cost"], [["5", "2.1"], ["10", "1.9"]])
+    M   cost
+    5   2.1
+    10  1.9
+    """
 
     def __init__(self, headers, rows):
         self.headers, self.rows = headers, rows
@@ -54,9 +68,31 @@ class Table:
 
 
 def table(headers, rows, digits: int = 4) -> Table:
-    """A :class:`Table` of ``rows`` under ``headers``; floats are printed with ``digits``
-    significant digits, infinities as ∞ and −∞, NaN as a dash. ``$...$`` in a header or a
-    cell is math (e.g. ``"$R^p_T(1)$"``)."""
+    """A :class:`Table` of numbers under typeset headers: what a chapter prints instead of a long
+    repr (e.g. the columns $R^p_T(1)$ of Eq. 2 per controller).
+
+    Parameters
+    ----------
+    headers : the column headers; ``$...$`` in a header is math (e.g. ``"$R^p_T(1)$"``).
+    rows : one sequence of cells per row, as many as headers; floats are printed with ``digits``
+        significant digits, infinities as ∞ and −∞, NaN as a dash, anything else with ``str``.
+    digits : the significant digits of a float, >= 1.
+
+    Returns
+    -------
+    Table
+        It displays as HTML in a notebook and in the book, as plain text otherwise.
+
+    Examples
+    --------
+    >>> import math
+    >>> from orrc.viz import plots
+    >>> plots.table(["controller", "$R^p_T(1)$"], [["LQR", 12.3456], ["none", math.inf]],
+    ...             digits=3)
+    controller  R^p_T(1)
+    LQR         12.3
+    none        ∞
+    """
     headers = [str(h) for h in headers]
     rows = [list(r) for r in rows]
     for i, r in enumerate(rows):
@@ -77,12 +113,32 @@ def table(headers, rows, digits: int = 4) -> Table:
 
 
 def constants_table(constants, digits: int = 4):
-    """The constants of Section 5.1 under typeset headers: α_lo, ᾱ, γ̄, the horizon threshold
-    ᾱ²/α_lo² + 1, the decay rate a_min, b and Theorem 1's γ_c (∞ where no pair is below the
-    threshold), and whether the numbers are certified or estimated. ``constants``: a dict label ->
-    :class:`orrc.certify.Constants` (one row per label, the label first), or a list of them
-    (one row each, no label column: the horizon M tells the rows apart). An
-    :func:`orrc.viz.plots.table`."""
+    r"""The constants of Section 5.1 (Lemma 1's class and Theorem 1's level) under typeset headers:
+    α_lo, ᾱ, γ̄, the horizon threshold ᾱ²/α_lo² + 1, the decay rate a_min, b and Theorem 1's γ_c (∞
+    where no pair is below the threshold), and whether they are certified or estimated.
+
+    Parameters
+    ----------
+    constants : dict label -> :class:`orrc.certify.Constants` (one row per label, the label
+        first), or a list of them (one row each, no label column: the horizon M tells the rows
+        apart).
+    digits : the significant digits of the numbers, >= 1.
+
+    Returns
+    -------
+    Table
+        An :func:`orrc.viz.plots.table`, one row per entry of ``constants``.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> from orrc.viz.theory_plots import constants_table
+    >>> ex = orrc.examples.scalar_unstable()
+    >>> t = constants_table({"scalar": certify.lq_constants(ex.system, ex.cost, M=8)})
+    >>> t.headers[:3], len(t.rows), t.rows[0][-1]
+    (['', '$M$', '$\\underline{\\alpha}$'], 1, 'certified (exact)')
+    """
     from .._validate import OrrcValueError
     if isinstance(constants, (list, tuple)):
         if not constants:
@@ -103,10 +159,36 @@ def constants_table(constants, digits: int = 4):
 
 
 def margins_table(margins: dict, digits: int = 4):
-    """Step-by-step margins (bound minus actual) of the paper's inequalities, one row per
-    label of ``margins`` (label -> :class:`orrc.checks.Margins`): how many steps, whether the
-    inequality holds at all of them (up to rounding), the smallest margin and the step where
-    it occurs, and the median margin. An :func:`orrc.viz.plots.table`."""
+    """The step-by-step margins (bound minus actual) of the paper's inequalities (Lemmas 1, 2, 4, 5
+    and 6, Theorems 1 to 3) in one table: for each, how many steps, whether it holds at all of
+    them (up to rounding), the smallest margin and the step where it occurs, and the median margin.
+
+    Parameters
+    ----------
+    margins : dict label -> :class:`orrc.checks.Margins`, one row each.
+    digits : the significant digits of the numbers, >= 1.
+
+    Returns
+    -------
+    Table
+        An :func:`orrc.viz.plots.table` with the columns inequality, steps, holds, smallest
+        margin, at step, median margin.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> from orrc.viz.theory_plots import margins_table
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
+    >>> m = checks.value_bound_margins(traj, 8, k.alpha_hi, k.gamma_bar)
+    >>> t = margins_table({"value bound": m})
+    >>> t.rows[0][:3]
+    ['value bound', '50', 'yes']
+    """
     margins = _nonempty_dict("margins", margins)
     rows = []
     for label, m in margins.items():

@@ -23,12 +23,38 @@ __all__ = ["gamma_c_map", "attenuation_levels", "regret_growth", "adversary", "t
 
 
 def gamma_c_map(curves: dict, a_min: dict, Ms, gamma_c_best, floor=None, title: str | None = None) -> Figure:
-    """γ_c = b((M-1)(1-a) + 1)/(1-a)² of Theorem 1 as a function of a and of M.
+    """Theorem 1's level γ_c = b((M−1)(1−a) + 1)/(1−a)² as a function of the decay rate a and of
+    the horizon M.
 
-    Left: γ_c against a for each label of ``curves`` (label -> (a values, γ_c values)),
-    with the smallest admissible a marked (``a_min``: label -> (a_min, γ_c(a_min))).
-    Right: the best γ_c (at a = a_min) against M (``Ms``, ``gamma_c_best``), and,
-    when given, the floor 2γ̄ of the remark after Theorem 1 (``floor``, aligned with Ms).
+    Left: γ_c against a for each label, with the smallest admissible a marked. Right: the best
+    γ_c (at a = a_min) against M, and, when given, the floor 2γ̄ of the remark after Theorem 1.
+
+    Parameters
+    ----------
+    curves : dict label -> (a values, γ_c values), one curve each.
+    a_min : dict label -> (a_min, γ_c(a_min)), the point marked on each curve.
+    Ms : the horizons of the right panel.
+    gamma_c_best : the best γ_c at each horizon, aligned with ``Ms``.
+    floor : optional floor 2γ̄ of the remark after Theorem 1, aligned with ``Ms``.
+    title : optional title above the panels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from orrc import theory
+    >>> from orrc.viz import theory_plots
+    >>> a_min = theory.min_decay_rate(8, 1.0, 2.0)
+    >>> a = np.linspace(a_min, 0.99, 20)
+    >>> gc = [theory.gamma_c(8, x, 1.0, 2.0, 1.0) for x in a]
+    >>> fig = theory_plots.gamma_c_map({"M = 8": (a, gc)}, {"M = 8": (a[0], gc[0])},
+    ...                                [8], [gc[0]])
+    >>> len(fig.axes)
+    2
     """
     curves = _nonempty_dict("curves", curves)
     if not isinstance(a_min, dict):
@@ -60,13 +86,37 @@ def gamma_c_map(curves: dict, a_min: dict, Ms, gamma_c_best, floor=None, title: 
 
 
 def attenuation_levels(Ms, levels: dict, threshold_M: int | None = None, title: str | None = None) -> Figure:
-    """Attenuation levels against the horizon M on a log scale (``levels``: label -> values
-    aligned with ``Ms``; inf or nan where a level does not exist): Theorem 1's certified
-    γ_c beside the exact worst-case levels of :func:`orrc.certify.worst_case_attenuation_limit`.
-    A label containing "LQR" with a single number is drawn as a horizontal line (it does
-    not depend on M). Labels containing "certified", "floor", "stationary", "cold" or "LQR"
-    get fixed styles. ``threshold_M``: the smallest M certified by Theorem 1; the horizons
-    below it are shaded."""
+    """Attenuation levels against the horizon M on a log scale: Theorem 1's certified γ_c beside the
+    exact worst-case levels of :func:`orrc.certify.worst_case_attenuation_limit`.
+
+    A label containing "LQR" with a single number is drawn as a horizontal line (it does not
+    depend on M). Labels containing "certified", "floor", "stationary", "cold" or "LQR" get fixed
+    styles.
+
+    Parameters
+    ----------
+    Ms : the horizons M.
+    levels : dict label -> values aligned with ``Ms`` (inf or nan where a level does not exist),
+        or a single number for a label containing "LQR".
+    threshold_M : optional smallest M certified by Theorem 1; the horizons below it are shaded.
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> import math
+    >>> from orrc.viz import theory_plots
+    >>> fig = theory_plots.attenuation_levels([2, 4, 8],
+    ...                                       {"certified γ_c": [math.inf, 40.0, 12.0],
+    ...                                        "exact, stationary": [3.0, 2.5, 2.4],
+    ...                                        "LQR": 2.6}, threshold_M=4)
+    >>> fig.axes[0].get_yscale()
+    'log'
+    """
     Ms = np.array([as_int("M", m, minimum=1) for m in Ms])
     levels = _nonempty_dict("levels", levels)
     fig, ax = _figure(width=7.0, height=4.2)
@@ -97,9 +147,40 @@ def attenuation_levels(Ms, levels: dict, threshold_M: int | None = None, title: 
 
 
 def regret_growth(t, R: dict, ceiling=None, title: str | None = None, ylim=None, ax=None) -> Figure:
-    """R^p_t(γ) = Σ_{s<t} c_s - γ Σ_{s<t} ‖w_s‖² against t (Eq. 2), one curve per label of
-    ``R`` (label -> array aligned with ``t``), and, when given, Theorem 1's explicit
-    ceiling C_t (``ceiling``: array aligned with t, from :func:`orrc.checks.theorem1_margin`)."""
+    """The running attenuation regret R^p_t(γ) = Σ_{s<t} c_s − γ Σ_{s<t} ‖w_s‖² of Eq. (2) against
+    t, one curve per label, under Theorem 1's explicit ceiling C_t when given.
+
+    Parameters
+    ----------
+    t : the steps.
+    R : dict label -> R^p_t(γ), aligned with ``t``.
+    ceiling : optional Theorem 1 ceiling C_t aligned with ``t`` (the ``bound`` of
+        :func:`orrc.checks.theorem1_margin`).
+    title : optional title.
+    ylim : optional fixed limits of the value axis.
+    ax : optional matplotlib axes to draw in (a new figure when None).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure of ``ax``, or a new one-panel figure.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify, checks
+    >>> from orrc.viz import theory_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
+    >>> m = checks.theorem1_margin(traj, 8, k.a, k.alpha_lo, k.alpha_hi,
+    ...                            k.gamma_bar, k.gamma_c)
+    >>> fig = theory_plots.regret_growth(m.t, {"preview RHC": m.actual}, ceiling=m.bound)
+    >>> len(fig.axes)
+    1
+    """
     t = as_array("t", t, ndim=1)
     R = _nonempty_dict("R", R)
     fig, ax = _axes(ax, 6.4, 3.4)
@@ -117,10 +198,34 @@ def regret_growth(t, R: dict, ceiling=None, title: str | None = None, ylim=None,
 
 
 def adversary(ws: dict, costs: dict, title: str | None = None) -> Figure:
-    """Worst-case disturbances (``ws``: label -> (T, n) array, e.g. the ``w`` of
-    :func:`orrc.certify.worst_case_attenuation`; the norm ‖w_t‖ is drawn when n > 1) and
-    the stage costs they cause (``costs``: label -> (T,) array, same labels): the
-    adversary of R^p_T(γ) (Eq. 2) made explicit."""
+    """The adversary of R^p_T(γ) (Eq. 2) made explicit: worst-case disturbances (their norm ‖w_t‖
+    when n > 1) and the stage costs they cause.
+
+    Parameters
+    ----------
+    ws : dict label -> (T, n) disturbance array, e.g. the ``w`` of
+        :func:`orrc.certify.worst_case_attenuation`.
+    costs : dict label -> (T,) stage costs, the same labels.
+    title : optional title above the panels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels: the disturbances and the stage costs.
+
+    Examples
+    --------
+    >>> import orrc
+    >>> from orrc import certify
+    >>> from orrc.viz import theory_plots
+    >>> di = orrc.examples.double_integrator()
+    >>> lqr = orrc.LQR(di.system, di.cost)
+    >>> worst = certify.worst_case_attenuation(di.system, lqr, T=30)
+    >>> traj = orrc.simulate(di.system, lqr, [0.0, 0.0], worst.w, T=30)
+    >>> fig = theory_plots.adversary({"LQR": worst.w}, {"LQR": traj.costs})
+    >>> len(fig.axes)
+    2
+    """
     ws = _nonempty_dict("ws", ws)
     costs = _nonempty_dict("costs", costs)
     fig, axes = _figure(1, 2, height=3.3)
@@ -155,15 +260,47 @@ def theorem1_frame(M: int, a: float, a_min: float, a_grid=None, gamma_c_grid=Non
                    ylim=None, gamma_c=None) -> Figure:
     """One frame of the Theorem 1 explorer for the horizon M and the decay rate a.
 
-    When a >= ``a_min`` (:func:`orrc.theory.min_decay_rate`): left, γ_c = b((M-1)(1-a)+1)/(1-a)²
-    against a (``a_grid``, ``gamma_c_grid``: the admissible range at this M) with the chosen
-    a marked; right, R^p_t(γ_c) along a trajectory under Theorem 1's explicit ceiling C_t
-    (``margin`` from :func:`orrc.checks.theorem1_margin` at γ = γ_c(a): ``actual`` is
-    R^p_t, ``bound`` is C_t, against t = ``margin.t``). When a < a_min the theorem does
-    not apply and the frame says so. ``ylim``: fixed limits of the right panel.
-    ``gamma_c``: the exact γ_c at a (:func:`orrc.theory.gamma_c`, the γ of ``margin``), for
-    the dot on the left and the legend on the right; without it, γ_c is interpolated in
-    the grid, which is off between grid points.
+    When a >= ``a_min``: left, γ_c = b((M−1)(1−a)+1)/(1−a)² against a with the chosen a marked;
+    right, R^p_t(γ_c) along a trajectory under Theorem 1's explicit ceiling C_t. When a < a_min
+    the theorem does not apply and the frame says so.
+
+    Parameters
+    ----------
+    M : the horizon.
+    a : the decay rate of the frame.
+    a_min : the smallest admissible decay rate (:func:`orrc.theory.min_decay_rate`).
+    a_grid, gamma_c_grid : the admissible range of a at this M and γ_c along it.
+    margin : the margins of :func:`orrc.checks.theorem1_margin` at γ = γ_c(a) (``actual`` is
+        R^p_t, ``bound`` is C_t, against ``margin.t``). ``a_grid``, ``gamma_c_grid`` and
+        ``margin`` are needed when a >= a_min.
+    ylim : optional fixed limits of the right panel.
+    gamma_c : the exact γ_c at a (:func:`orrc.theory.gamma_c`, the γ of ``margin``), for the
+        dot on the left and the legend on the right; without it, γ_c is interpolated in the grid,
+        which is off between grid points.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, or one that says the theorem does not apply.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> from orrc import certify, checks, theory
+    >>> from orrc.viz import theory_plots
+    >>> ex = orrc.examples.scalar_unstable(A=1.2, B=1.0)
+    >>> k = certify.lq_constants(ex.system, ex.cost, M=8)
+    >>> w = orrc.disturbances.uniform_ball(60, 1, 0.5, seed=0)
+    >>> traj = orrc.simulate(ex.system, orrc.PreviewRHC(ex.system, ex.cost, 8), ex.x0,
+    ...                      w, 50)
+    >>> a_grid = np.linspace(k.a, 0.99, 10)
+    >>> grid = [theory.gamma_c(8, a, k.alpha_lo, k.alpha_hi, k.gamma_bar) for a in a_grid]
+    >>> m = checks.theorem1_margin(traj, 8, k.a, k.alpha_lo, k.alpha_hi,
+    ...                            k.gamma_bar, k.gamma_c)
+    >>> fig = theory_plots.theorem1_frame(8, k.a, k.a, a_grid, grid, m, gamma_c=k.gamma_c)
+    >>> len(fig.axes)
+    2
     """
     M, a, a_min, fig, (ax, ax2) = _admissible_frame(M, a, a_min, "Theorem 1", "no guarantee")
     if ax is None:
@@ -192,11 +329,32 @@ def theorem1_frame(M: int, a: float, a_min: float, a_grid=None, gamma_c_grid=Non
 
 
 def attenuation_vs_T(Ts, levels: dict, limits: dict | None = None, title: str | None = None) -> Figure:
-    """The exact finite-T worst-case attenuation (:func:`orrc.certify.worst_case_attenuation`)
-    against the horizon T (``levels``: label -> values aligned with ``Ts``), with its T → ∞
-    limits as horizontal lines (``limits``: label -> number, from
-    :func:`orrc.certify.worst_case_attenuation_limit` with ``start="cold"`` or
-    ``"stationary"``; dashed when the label contains "stationary"). Log-scale T axis."""
+    """The exact finite-T worst-case attenuation level (:func:`orrc.certify.worst_case_attenuation`)
+    against the length T of the run, with its T → ∞ limits as horizontal lines, on a log-scale T
+    axis.
+
+    Parameters
+    ----------
+    Ts : the lengths T.
+    levels : dict label -> levels aligned with ``Ts``.
+    limits : optional dict label -> the limit level, from
+        :func:`orrc.certify.worst_case_attenuation_limit` with ``start="cold"`` or
+        ``"stationary"`` (dashed when the label contains "stationary").
+    title : optional title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel.
+
+    Examples
+    --------
+    >>> from orrc.viz import theory_plots
+    >>> fig = theory_plots.attenuation_vs_T([10, 30, 100], {"LQR": [2.1, 2.4, 2.5]},
+    ...                                     limits={"LQR, stationary": 2.52})
+    >>> fig.axes[0].get_xscale()
+    'log'
+    """
     Ts = np.array([as_int("T", T, minimum=1) for T in Ts])
     levels = _nonempty_dict("levels", levels)
     limits = {} if limits is None else limits
