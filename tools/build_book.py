@@ -21,7 +21,8 @@ chapter sources, so without it a change in ``orrc/`` would leave stale outputs.
 
 ``_config.yml`` executes in MyST-NB's "cache" mode, and the cache (``_build/.jupyter_cache``)
 is emptied here before every build, so every chapter is executed as with "force" and the
-executed notebooks, with their glue outputs, are kept. A build that succeeds leaves a stamp,
+executed notebooks, with their glue outputs, are kept. The chapters are executed into the
+emptied cache first, one per core (:mod:`tools.execute_chapters`); the build reads them from it. A build that succeeds leaves a stamp,
 ``_build/orrc-build.json``: the digest of every input (:func:`inputs_digest`) and the run size
 (``ORRC_QUICK``). The solution-free edition (``tools/build_student.py``) reuses the cached
 notebooks only when the stamp matches the sources and the size it is asked for.
@@ -106,6 +107,10 @@ def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT,
     stamp.unlink(missing_ok=True)
     shutil.rmtree(Path(out) / "_build" / CACHE, ignore_errors=True)  # never a stale output
     digest = inputs_digest(source)
+    # every chapter executed into the cache first, one per core (tools/execute_chapters.py): the build
+    # then reads each from the cache instead of executing the chapters one after the other
+    subprocess.call([sys.executable, "-m", "tools.execute_chapters", str(Path(out) / "_build" / CACHE)],
+                    cwd=source, env=env)
     cmd = [str(Path(sys.executable).parent / "jupyter-book"), "build", str(source), "--path-output", str(out),
            "--builder", "html", "--all", "-n", "-W", "--keep-going"]
     rc = subprocess.call(cmd, cwd=source, env=env)
