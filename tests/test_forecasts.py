@@ -207,6 +207,22 @@ def test_robust_preview_over_a_polytope_is_the_worst_case_over_its_vertex_sequen
     assert np.abs(a.inputs - b.inputs).max() < 1e-8 * max(1.0, np.abs(a.inputs).max())
 
 
+def test_a_ball_of_errors_is_planned_for_through_the_box_around_it(di):
+    """A ball has no vertices: the plan is the box's around it, an upper bound on the ball's min-max
+    value, which lies above the value over the square inscribed in the ball (a polytope inside it)."""
+    ex, _ = di
+    r, M = 0.2, 4
+    W_hat = 0.1 * np.ones((M, 2))
+    ball = RobustPreviewRHC(ex.system, ex.cost, M, E=orrc.Ball(r, n=2))
+    box = RobustPreviewRHC(ex.system, ex.cost, M, E=orrc.Box(-r, r, n=2))
+    inner = RobustPreviewRHC(ex.system, ex.cost, M, E=orrc.Polytope(
+        r / np.sqrt(2) * np.array([[1.0, 1.0], [1.0, -1.0], [-1.0, 1.0], [-1.0, -1.0]])))
+    a, b, c = (ctl.plan(ex.x0, W_hat) for ctl in (ball, box, inner))
+    assert not ball.exact and box.exact and inner.exact
+    assert a.value == b.value and np.array_equal(a.inputs, b.inputs)
+    assert c.value < a.value
+
+
 def test_a_larger_error_set_plans_for_more_cost(di):
     ex, w = di
     values = [RobustPreviewRHC(ex.system, ex.cost, 4, E=orrc.Box(-r, r, n=2)).plan(ex.x0, 0.1 * np.ones((4, 2))).value

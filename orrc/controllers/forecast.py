@@ -14,7 +14,7 @@ import numpy as np
 
 from .._validate import OrrcValueError, as_float, as_int
 from ..costs import QuadraticCost
-from ..disturbances import Box, Polytope
+from ..disturbances import Ball, Box, Polytope
 from ..solvers import lq
 from ..solvers.minmax import VertexEpigraph, check_set
 from ..systems import LinearSystem
@@ -141,7 +141,9 @@ class RobustPreviewRHC(Controller):
 
     and u_t = ũ_0. E = {0} gives Algorithm 1 on the forecast; a zero forecast and E = W give
     Algorithm 3 (:class:`~orrc.MinMaxRHC`, open loop). Exact for a linear system, a convex
-    quadratic cost and a box or a polytope E (the worst case sits at its vertices): the state is augmented with the forecast window (a shift register),
+    quadratic cost and a box or a polytope E (the worst case sits at its vertices); for a ball E
+    (no vertices) it plans against the smallest box around the ball, an over-approximation whose
+    value bounds the ball's min-max value from above (``exact`` is False then). The state is augmented with the forecast window (a shift register),
     so that the problem is Algorithm 3's exact vertex epigraph
     (:class:`orrc.solvers.minmax.VertexEpigraph`) on the augmented system, with the error box on the
     state's coordinates and nothing on the register's. Its size is that of Algorithm 3: V^(M-1)
@@ -154,14 +156,16 @@ class RobustPreviewRHC(Controller):
     cost : QuadraticCost
     M : int
         The horizon, M >= 1.
-    E : Box or Polytope
-        The forecast's error set (``Box(0, 0, n)`` for an exact forecast).
+    E : Box, Polytope or Ball
+        The forecast's error set (``Box(0, 0, n)`` for an exact forecast); a ball is planned for
+        through the box around it.
     input_bounds : (lo, hi), optional
 
     Returns
     -------
     A controller for :func:`orrc.simulate` with ``forecast=``; its ``record()`` holds ``value``
-    (T,), the min-max value of each step.
+    (T,), the min-max value of each step; ``exact`` says whether that is the min-max over E
+    itself (a box or a polytope) or over the box around a ball.
 
     Examples
     --------
@@ -177,16 +181,19 @@ class RobustPreviewRHC(Controller):
     True
     """
 
-    def __init__(self, system: LinearSystem, cost: QuadraticCost, M: int, E: Box | Polytope, input_bounds=None):
+    def __init__(self, system: LinearSystem, cost: QuadraticCost, M: int, E: Box | Polytope | Ball, input_bounds=None):
         _check_lq("RobustPreviewRHC", system, cost)
         self.M = as_int("M", M, minimum=1)
-        if not isinstance(E, (Box, Polytope)):
-            raise OrrcValueError(f"E must be an orrc.Box or an orrc.Polytope (the forecast's error set; a ball has no "
-                                 f"vertices for the exact robust preview); got {type(E).__name__}")
+        if not isinstance(E, (Box, Polytope, Ball)):
+            raise OrrcValueError(f"E must be an orrc.Box, an orrc.Polytope or an orrc.Ball (the forecast's error "
+                                 f"set); got {type(E).__name__}")
         if E.n != system.n:
             raise OrrcValueError(f"E must have the state dimension n={system.n} (the error adds to w_t); got a set "
                                  f"in R^{E.n}")
         E = check_set(E, system.n)
+        self.exact = not isinstance(E, Ball)
+        # a ball has no vertices: plan against the smallest box around it (a documented over-approximation)
+        planned = Box(-E.radius, E.radius, n=E.n) if isinstance(E, Ball) else E
         n, m, M = system.n, system.m, self.M
         N = n * (M + 1)
         # ξ = (x, ŵ_0, ..., ŵ_{M-1}): x⁺ = A x + B u + ŵ_0 + e, the register shifts (ŵ_j ← ŵ_{j+1}, 0 in)
@@ -200,12 +207,12 @@ class RobustPreviewRHC(Controller):
         Q[:n, :n] = cost.Q
         self._aug = LinearSystem(A, Bx)
         self._aug_cost = QuadraticCost(Q, cost.R, alpha_lo=0.0)
-        if isinstance(E, Box):   # the error on the state's coordinates, nothing on the register's
+        if isinstance(planned, Box):   # the error on the state's coordinates, nothing on the register's
             lo, hi = np.zeros(N), np.zeros(N)
-            lo[:n], hi[:n] = E.lo, E.hi
+            lo[:n], hi[:n] = planned.lo, planned.hi
             E_aug = Box(lo, hi)
         else:
-            V = E.vertices()
+            V = planned.vertices()
             E_aug = Polytope(np.hstack([V, np.zeros((len(V), N - n))]))
         self._solver = VertexEpigraph(self._aug, self._aug_cost, M, E_aug, input_bounds=input_bounds)
         self.system, self.cost, self.E = system, cost, E
