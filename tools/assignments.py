@@ -28,13 +28,14 @@ from __future__ import annotations
 import argparse
 import ast
 import json
+import multiprocessing
 import os
 import re
 import shutil
 import subprocess
 import sys
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from pathlib import Path
 
 import yaml
@@ -384,11 +385,16 @@ def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None,
     :func:`build_submissions` result once all are built, before the first grading, so that work
     which needs the built notebooks only (not their grades) can start beside the gradings."""
     wheel = autograder_env.build_wheel(Path(out) / "_wheel")
+    todo = names(root)
+    # the builds in processes of their own: each parses notebooks with ``ast``, whose conversion to
+    # Python objects is not safe in two threads of one interpreter at once (CPython 3.11 raises
+    # "AST constructor recursion depth mismatch"), and the caller may be parsing in another thread
+    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as procs:
+        built = list(procs.map(build_submissions, todo, [out] * len(todo), [root] * len(todo),
+                               [extra(n) if extra else None for n in todo], [wheel] * len(todo)))
+    if on_built is not None:
+        on_built(built)
     with ThreadPoolExecutor(max_workers=workers) as pool:
-        built = list(pool.map(lambda n: build_submissions(n, out, root, extra(n) if extra else None, wheel),
-                              names(root)))
-        if on_built is not None:
-            on_built(built)
         return list(pool.map(lambda b: grade_submissions(b, out, python), built))
 
 

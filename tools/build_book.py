@@ -36,6 +36,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from tools.execute_chapters import write_executed
+
 ROOT = Path(__file__).resolve().parents[1]
 PUBLISHED_HTML = ROOT / "_build" / "html"
 TEST_OUT = ROOT / "_build" / "test"  # jupyter-book's --path-output for the test build
@@ -114,6 +116,7 @@ def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT,
     cmd = [str(Path(sys.executable).parent / "jupyter-book"), "build", str(source), "--path-output", str(out),
            "--builder", "html", "--all", "-n", "-W", "--keep-going"]
     rc = subprocess.call(cmd, cwd=source, env=env)
+    write_executed(Path(out) / "_build" / CACHE, Path(out) / "_build" / "jupyter_execute", source)
     if rc == 0:
         stamp.write_text(json.dumps({"digest": digest, "quick": is_quick(env)}, indent=1))
     return rc

@@ -10,6 +10,11 @@ executes it and reports its error as it always does.
 
 Run by :func:`tools.build_book.build` as ``python -m tools.execute_chapters CACHE``, in the
 environment of the build's kernels (``ORRC_BOOK_BUILD``, ``ORRC_QUICK``, ``JUPYTER_PATH``).
+
+MyST-NB writes a chapter it found in the cache to ``_build/jupyter_execute/<page>.ipynb`` without
+the cached outputs (it writes the notebook it read, not the one it merged); after the build
+:func:`write_executed` writes each chapter there as the cache holds it, outputs included, as a
+chapter executed during the build would be.
 """
 from __future__ import annotations
 
@@ -17,9 +22,11 @@ import logging
 import sys
 from pathlib import Path
 
+import nbformat
 import yaml
 from jupyter_cache import get_cache
 from jupyter_cache.executors import load_executor
+from myst_nb.core.read import myst_nb_reader_plugin
 
 from tools.toc import ROOT, notebook_pages
 
@@ -43,6 +50,25 @@ def execute(cache_dir: Path, root: Path = ROOT) -> dict:
     result = load_executor("temp-parallel", cache, logger=logger).run_and_cache(
         timeout=cell_timeout(root), allow_errors=False)
     return {"succeeded": list(result.succeeded), "failed": list(result.excepted) + list(result.errored)}
+
+
+def write_executed(cache_dir: Path, folder: Path, root: Path = ROOT) -> list[str]:
+    """Write every notebook page that the cache at ``cache_dir`` holds to ``folder/<page>.ipynb``
+    with its cached outputs (read with MyST-NB's reader, merged with the cache's match); returns
+    the pages written."""
+    cache = get_cache(str(cache_dir))
+    written = []
+    for page in notebook_pages(root):
+        nb = myst_nb_reader_plugin(str(Path(root) / f"{page}.md"))
+        try:
+            _, merged = cache.merge_match_into_notebook(nb)
+        except KeyError:        # not in the cache (its run failed): the build reported it
+            continue
+        target = Path(folder) / f"{page}.ipynb"
+        target.parent.mkdir(parents=True, exist_ok=True)
+        nbformat.write(merged, target)
+        written.append(page)
+    return written
 
 
 def main(argv: list[str] | None = None) -> int:
