@@ -232,9 +232,10 @@ def test_the_book_build_signal_is_read_from_the_environment(monkeypatch, value, 
     assert orrc.config.book_build() is expected
 
 
-def _in_a_loop(make_view, until=lambda view: view.pending == 0):
+def _in_a_loop(make_view, until=lambda view: view.pending == 0, seconds: float = 60.0):
     """The view ``make_view()`` made inside an asyncio loop of its own, in a thread (as a kernel runs
-    its cells in its loop), once the loop has run until ``until(view)`` (at most 10 s)."""
+    its cells in its loop), once the loop has run until ``until(view)`` (at most ``seconds``: a
+    worker process's first start on a fresh clone compiles its imports first)."""
     import asyncio
     import threading
 
@@ -243,7 +244,7 @@ def _in_a_loop(make_view, until=lambda view: view.pending == 0):
     async def main():
         try:
             view = make_view()
-            for _ in range(1000):
+            for _ in range(int(seconds / 0.01)):
                 await asyncio.sleep(0.01)
                 if until(view):
                     break
@@ -397,10 +398,10 @@ def test_a_plotting_error_in_the_worker_is_shown_on_the_move():
 def test_a_stopped_worker_leaves_and_forget_draws_nothing_ahead():
     from orrc.viz import LiveView
 
-    def slow(M):
+    def slow(M):   # slow enough that the worker is still drawing when the loop sees two frames
         import time
 
-        time.sleep(0.2)
+        time.sleep(0.5)
         return line_plot([])(M, 1.0)
 
     view = _in_a_loop(lambda: LiveView(slow, {"M": list(range(12))}, {"M": 0}, 100, ahead=True),
