@@ -170,15 +170,10 @@ def vertex_count(W, M: int) -> int | float:
     given), counted without listing them: an exact integer up to 2^62, beyond it a float (``inf``
     past the float range), so that a long horizon costs nothing to count (2^(M-1) as an integer
     takes seconds to build and to print)."""
-    if isinstance(W, Polytope):
-        V = len(W.vertices())
-        bits = (M - 1) * math.log2(V) if V > 1 else 0.0
-        if bits <= 62:
-            return V ** (M - 1)
-        return 2.0 ** bits if bits < 1024 else math.inf
-    bits = int(np.count_nonzero(W.lo < W.hi)) * (M - 1)
+    V = len(W.vertices()) if isinstance(W, Polytope) else 2 ** int(np.count_nonzero(W.lo < W.hi))
+    bits = (M - 1) * math.log2(V)
     if bits <= 62:
-        return 2 ** bits
+        return V ** (M - 1)
     return 2.0 ** bits if bits < 1024 else math.inf
 
 
@@ -250,15 +245,14 @@ class VertexEpigraph:
                  max_rounds: int = 200):
         self.M, self.n, self.m = M, system.n, system.m
         n, m = self.n, self.m
-        verts = set_vertices(W) if isinstance(W, Polytope) else None
-        V = len(verts) if verts is not None else 2 ** int(np.count_nonzero(W.lo < W.hi))
+        V = len(W.vertices()) if isinstance(W, Polytope) else 2 ** int(np.count_nonzero(W.lo < W.hi))
         N = vertex_count(W, M)
         width = M * n + M * m + 2
         count = str(N) if isinstance(N, int) else f"{N:.3g}"
         check_size(f"the exact min-max method at M={M}, n={n}: N = {V}^(M-1) = {count} vertex sequences",
                    nbytes=8.0 * N * (width + M * n), ops=float(N) * (M * n) ** 2 + 10.0 * 4 * N * width,
                    hint="use method='exchange' (scenario exchange), or a shorter horizon M")
-        verts = set_vertices(W) if verts is None else verts
+        verts = set_vertices(W)
         self.N, self.W, self.verts = N, W, verts
         self.A, self.B, self.cost = system.A, system.B, cost
         self.Phi, self.Gu, self.Gw = condensed(system.A, system.B, M)
