@@ -24,6 +24,7 @@ from pathlib import Path
 import pytest
 
 from conftest import BOOK_OUT, after, background
+from tools.build_book import CACHE
 from tools.build_student import INSTRUCTOR_PAGES, for_students, stripped_copy
 from tools.solutions import parse, strip_solutions
 from tools.toc import notebook_pages, toc_pages
@@ -180,6 +181,11 @@ def test_the_student_edition_builds_apart_and_reuses_the_executed_chapters(stude
     for page, why in r["not_reused"].items():  # only a chapter whose outputs could depend on a solution is re-run
         assert "follows a solution" in why, f"{page} was not reused: {why}"
     assert r["executed"] == len(r["not_reused"]), "a reused chapter was executed again"
+    # nor executed before the Sphinx build into a cache of its own (a normal build's first step)
+    assert not (STUDENT / "source" / "_build" / CACHE).exists(), "the student build executed the chapters first"
+    executed = {p.relative_to(STUDENT / "source" / "_build" / "jupyter_execute").with_suffix("").as_posix()
+                for p in (STUDENT / "source" / "_build" / "jupyter_execute").rglob("*.ipynb")}
+    assert chapters <= executed, f"executed notebooks missing from the student build: {sorted(chapters - executed)}"
     assert sum(r["removed"].values()) == len(SOLUTIONS)
     first = (STUDENT / "html" / f"{PAGES[0]}.html").read_text(encoding="utf-8")
     assert "(student edition)" in first and "(student edition)" not in (NORMAL / "html" / f"{PAGES[0]}.html").read_text()

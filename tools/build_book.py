@@ -83,12 +83,17 @@ def kernel_for(python: Path, folder: Path) -> Path:
 
 
 def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT,
-          kernel_python: Path | None = None) -> int:
+          kernel_python: Path | None = None, cache: Path | None = None) -> int:
     """Build the book in ``source`` into ``out/_build``; return jupyter-book's exit code.
 
     ``kernel_python``: the Python whose kernel executes the chapters (default: this environment's),
     e.g. that of a fresh environment built from what a chapter's download installs; each chapter
     runs in a temporary folder (``run_in_temp`` in ``_config.yml``) either way.
+
+    ``cache``: a Jupyter cache that already holds the executed chapters, the one ``_config.yml``
+    names (the solution-free edition's, filled from the normal build): nothing is executed first,
+    and MyST-NB runs only a chapter it does not find there. By default the build's own cache
+    (``out/_build/.jupyter_cache``) is emptied and every chapter executed into it first.
 
     A test-size build (``ORRC_QUICK`` set in the environment or in ``extra_env``) into the
     published folder ``_build/html`` is refused (ValueError): that folder holds the full book only.
@@ -107,16 +112,17 @@ def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT,
         env["JUPYTER_PATH"] = os.pathsep.join(p for p in (str(data), env.get("JUPYTER_PATH", "")) if p)
     stamp = Path(out) / "_build" / STAMP
     stamp.unlink(missing_ok=True)
-    shutil.rmtree(Path(out) / "_build" / CACHE, ignore_errors=True)  # never a stale output
     digest = inputs_digest(source)
-    # every chapter executed into the cache first, one per core (tools/execute_chapters.py): the build
-    # then reads each from the cache instead of executing the chapters one after the other
-    subprocess.call([sys.executable, "-m", "tools.execute_chapters", str(Path(out) / "_build" / CACHE)],
-                    cwd=source, env=env)
+    if cache is None:
+        cache = Path(out) / "_build" / CACHE
+        shutil.rmtree(cache, ignore_errors=True)  # never a stale output
+        # every chapter executed into the cache first, one per core (tools/execute_chapters.py): the
+        # build then reads each from the cache instead of executing the chapters one after the other
+        subprocess.call([sys.executable, "-m", "tools.execute_chapters", str(cache)], cwd=source, env=env)
     cmd = [str(Path(sys.executable).parent / "jupyter-book"), "build", str(source), "--path-output", str(out),
            "--builder", "html", "--all", "-n", "-W", "--keep-going"]
     rc = subprocess.call(cmd, cwd=source, env=env)
-    write_executed(Path(out) / "_build" / CACHE, Path(out) / "_build" / "jupyter_execute", source)
+    write_executed(cache, Path(out) / "_build" / "jupyter_execute", source)
     if rc == 0:
         stamp.write_text(json.dumps({"digest": digest, "quick": is_quick(env)}, indent=1))
     return rc

@@ -213,7 +213,7 @@ def build_student(out: Path = ROOT, quick: bool | None = None, reuse: bool = Tru
                else "reuse switched off")
     fill_cache(cache_dir, source, notebooks)
     _student_config(source, cache_dir, root)
-    rc = build(source, extra_env={"ORRC_QUICK": "1" if quick else "0"}, source=source)
+    rc = build(source, extra_env={"ORRC_QUICK": "1" if quick else "0"}, source=source, cache=cache_dir)
     html = base / "html"
     if html.exists():
         shutil.rmtree(html)
