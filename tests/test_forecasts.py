@@ -4,8 +4,10 @@ preview, each forecast model's error, robust preview RHC between Algorithms 1 an
 λ-confident policy."""
 from __future__ import annotations
 
+import itertools
 import warnings
 
+import casadi as ca
 import numpy as np
 import pytest
 
@@ -176,8 +178,6 @@ def test_robust_preview_over_a_polytope_is_the_worst_case_over_its_vertex_sequen
     """E a triangle: the plan's value is min_U max over the sequences of E's vertices of the cost,
     solved independently (cvxpy, every sequence an epigraph constraint, the condensed prediction);
     the box given as a polytope of its corners plans as the box."""
-    import itertools
-
     import cvxpy as cp
 
     rng = np.random.default_rng(20 + seed)
@@ -247,8 +247,6 @@ def _pendulum():
 
 def _as_general_system(system):
     """The linear system x⁺ = A x + B u + w written as a general orrc.System (CasADi operations)."""
-    import casadi as ca
-
     A, B = system.A, system.B
     return orrc.NonlinearSystem(lambda x, u, w: ca.mtimes(A, x) + ca.mtimes(B, u) + w, system.n, system.m)
 
@@ -291,8 +289,6 @@ def test_the_exchange_agrees_with_the_exact_lq_method_within_its_gap(seed):
     here, so its ``lower`` bounds the exact min-max value V from below; its value lies within its
     reported gap of V; and its plan's worst case over every vertex sequence of E (enumerated: the
     cost is convex in the errors) is at least V and is the worst case the local search found."""
-    import itertools
-
     rng = np.random.default_rng(30 + seed)
     system, cost = random_lq_problem(rng)
     n, M = system.n, 4
@@ -317,6 +313,24 @@ def test_the_exchange_agrees_with_the_exact_lq_method_within_its_gap(seed):
     worst = max(J(a.inputs, list(seq) + [np.zeros(n)]) for seq in itertools.product(corners, repeat=M - 1))
     assert worst >= V - tol
     assert abs(worst - a.upper) <= tol
+
+
+def test_a_closed_loop_with_a_zero_forecast_and_e_equal_to_w_is_algorithm_3s_on_time_varying_costs():
+    """Step by step (warm starts shifted the same way, the previewed costs c_t..c_{t+M-1} passed as
+    the exchange's parameters beside the forecast), the robust controller on the zero forecast with
+    E = W applies Algorithm 3's inputs on the pendulum."""
+    pend, M, T = _pendulum(), 6, 8
+    W = orrc.Box(-0.05, 0.05, n=2)
+    costs = pend.cost.scaled(1.0 + 0.5 * np.sin(np.arange(T + M)))
+    w = W.sample(T, 3)
+    robust = RobustPreviewRHC(pend.system, pend.cost, M, E=W, input_bounds=pend.input_bounds)
+    a = orrc.simulate(pend.system, robust, pend.x0, w, T, costs=costs, forecast=Zero())
+    b = orrc.simulate(pend.system, orrc.MinMaxRHC(pend.system, pend.cost, M, W, input_bounds=pend.input_bounds,
+                                                  method="exchange"), pend.x0, w, T, costs=costs)
+    assert a.success.all() and b.success.all()
+    assert np.abs(a.u - b.u).max() <= 1e-8 * max(1.0, np.abs(b.u).max())
+    plain = orrc.simulate(pend.system, robust, pend.x0, w, T, forecast=Zero())
+    assert np.abs(plain.u - a.u).max() > 1e-3              # the previewed costs were used
 
 
 def test_robust_preview_on_the_pendulum_never_reads_the_truth():
