@@ -13,6 +13,8 @@ from orrc.forecasts import AR, AdversarialError, Bias, Delay, Exact, Forecast, N
 
 EX = orrc.examples.double_integrator()
 W = orrc.disturbances.uniform_ball(L=20, n=2, radius=0.1, seed=0)
+PEND = orrc.examples.inverted_pendulum()
+BOX = orrc.Box(-0.1, 0.1, n=2)
 
 
 def rhc():
@@ -72,6 +74,42 @@ CASES = [
     case("RobustPreviewRHC-M", lambda: RobustPreviewRHC(EX.system, EX.cost, 0, E=orrc.Box(-1, 1, n=2)), "M"),
     case("RobustPreviewRHC-too-many-vertex-sequences",
          lambda: RobustPreviewRHC(EX.system, EX.cost, 40, E=orrc.Box(-1, 1, n=2)), "vertex sequences", "M=40"),
+    case("RobustPreviewRHC-nonlinear-set-dimension",
+         lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=orrc.Box(-1, 1, n=3)), "E must have the state dimension n=2",
+         "R^3"),
+    case("RobustPreviewRHC-nonlinear-polytope",
+         lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=orrc.Polytope([[0.1, 0.0], [0.0, 0.1], [-0.1, 0.0]])),
+         "E is an orrc.Polytope", "method='exchange'", "orrc.Box or an orrc.Ball"),
+    case("RobustPreviewRHC-nonlinear-exact",
+         lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=orrc.Box(-1, 1, n=2), method="exact"),
+         "method='exact'", "NonlinearSystem", "use method='exchange'"),
+    case("RobustPreviewRHC-method", lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=BOX, method="game"),
+         "method must be one of", "'game'"),
+    case("RobustPreviewRHC-exchange-options",
+         lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=BOX, exchange_options={"max_iters": 3}),
+         "exchange_options", "max_iters"),
+    case("RobustPreviewRHC-exchange-options-with-exact",
+         lambda: RobustPreviewRHC(EX.system, EX.cost, 3, E=BOX, exchange_options={"max_iter": 3}),
+         "exchange_options", "method='exact'"),
+    case("RobustPreviewRHC-seed", lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=BOX, seed=-1), "seed"),
+    case("RobustPreviewRHC-tol", lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=BOX, tol=0.0), "tol"),
+    case("RobustPreviewRHC-cost-dimension",
+         lambda: RobustPreviewRHC(PEND.system, orrc.QuadraticCost(np.eye(3), [[1.0]]), 3, E=BOX), "cost", "n=3"),
+    case("RobustPreviewRHC-exchange-too-large",
+         lambda: RobustPreviewRHC(PEND.system, PEND.cost, 10**5, E=BOX), "scenario exchange", "M=100000",
+         "too large"),
+    case("RobustPreviewRHC-forecast-columns",
+         lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=BOX).plan(PEND.x0, np.zeros((3, 3))),
+         "w_forecast must be an array (k, n=2)", "(3, 3)"),
+    case("RobustPreviewRHC-forecast-not-finite",
+         lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=BOX).plan(PEND.x0, np.full((3, 2), np.nan)),
+         "w_forecast", "finite"),
+    case("RobustPreviewRHC-state-dimension",
+         lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=BOX).plan(np.zeros(3), np.zeros((3, 2))), "x"),
+    case("RobustPreviewRHC-cost-params-rows",
+         lambda: RobustPreviewRHC(PEND.system, PEND.cost, 3, E=BOX).plan(PEND.x0, np.zeros((3, 2)),
+                                                                         PEND.cost.default_params[None]),
+         "cost_params", "M=3"),
 ]
 
 

@@ -4,6 +4,10 @@ preview, each forecast model's error, robust preview RHC between Algorithms 1 an
 λ-confident policy."""
 from __future__ import annotations
 
+import itertools
+import warnings
+
+import casadi as ca
 import numpy as np
 import pytest
 
@@ -174,8 +178,6 @@ def test_robust_preview_over_a_polytope_is_the_worst_case_over_its_vertex_sequen
     """E a triangle: the plan's value is min_U max over the sequences of E's vertices of the cost,
     solved independently (cvxpy, every sequence an epigraph constraint, the condensed prediction);
     the box given as a polytope of its corners plans as the box."""
-    import itertools
-
     import cvxpy as cp
 
     rng = np.random.default_rng(20 + seed)
@@ -235,6 +237,178 @@ def test_robust_preview_runs_in_closed_loop_on_a_forecast(di):
     ctl = RobustPreviewRHC(ex.system, ex.cost, 4, E=orrc.Box(-0.1, 0.1, n=2))
     traj = orrc.simulate(ex.system, ctl, ex.x0, w, T=25, forecast=Noisy(0.05, seed=3))
     assert traj.success.all() and np.isfinite(traj.costs).all() and traj.info["value"].shape == (25,)
+
+
+# ---------------------------------------------------------------- robust preview RHC, any system
+
+def _pendulum():
+    return orrc.examples.inverted_pendulum()
+
+
+def _as_general_system(system):
+    """The linear system x⁺ = A x + B u + w written as a general orrc.System (CasADi operations)."""
+    A, B = system.A, system.B
+    return orrc.NonlinearSystem(lambda x, u, w: ca.mtimes(A, x) + ca.mtimes(B, u) + w, system.n, system.m)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_robust_preview_is_preview_rhc_on_the_forecast_when_the_error_set_is_zero_on_the_pendulum(seed):
+    """E = {0}: the exchange's problem is Algorithm 1's on the forecast (no error to search): the
+    same value and first input as PreviewRHC's own NLP solver, to the solvers' tolerances (both
+    stop at 1e-8 or below on the optimality conditions of the same smooth problem)."""
+    pend, M = _pendulum(), 8
+    rng = np.random.default_rng(seed)
+    x, W_hat = rng.uniform(-0.5, 0.5, 2), rng.uniform(-0.1, 0.1, (M, 2))
+    robust = RobustPreviewRHC(pend.system, pend.cost, M, E=orrc.Box(0.0, 0.0, n=2), input_bounds=pend.input_bounds)
+    assert robust.method == "exchange" and not robust.exact
+    a = robust.plan(x, W_hat)
+    b = orrc.PreviewRHC(pend.system, pend.cost, M, input_bounds=pend.input_bounds).plan(x, W_hat)
+    assert a.success and a.gap <= 1e-6 * a.upper
+    assert abs(a.value - b.value) < 1e-8 * max(1.0, abs(b.value))
+    assert np.abs(a.inputs[0] - b.inputs[0]).max() < 1e-6 * max(1.0, np.abs(b.inputs).max())
+
+
+@pytest.mark.parametrize("W", [orrc.Box(-0.05, 0.05, n=2), orrc.Ball(0.05, n=2)], ids=["box", "ball"])
+def test_robust_preview_is_minmax_rhcs_exchange_plan_with_a_zero_forecast_and_e_equal_to_w(W):
+    """A zero forecast and E = W: the same scenario exchange, with the same starts, as Algorithm 3's
+    open-loop MinMaxRHC(method="exchange"), on the nonlinear pendulum."""
+    pend, M = _pendulum(), 8
+    x = np.array([0.3, -0.2])
+    a = RobustPreviewRHC(pend.system, pend.cost, M, E=W, input_bounds=pend.input_bounds).plan(x, np.zeros((M, 2)))
+    b = orrc.MinMaxRHC(pend.system, pend.cost, M, W, input_bounds=pend.input_bounds, method="exchange").plan(x)
+    assert a.success and b.success
+    assert abs(a.value - b.value) < 1e-8 * max(1.0, abs(b.value))
+    assert np.abs(a.inputs - b.inputs).max() < 1e-8 * max(1.0, np.abs(b.inputs).max())
+    assert np.abs(a.worst_w - b.worst_w).max() <= 1e-8 * 0.05
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_exchange_agrees_with_the_exact_lq_method_within_its_gap(seed):
+    """A linear system given as a general System goes to the exchange; the same problem as an
+    orrc.LinearSystem goes to the exact vertex epigraph. The exchange's outer problem is convex
+    here, so its ``lower`` bounds the exact min-max value V from below; its value lies within its
+    reported gap of V; and its plan's worst case over every vertex sequence of E (enumerated: the
+    cost is convex in the errors) is at least V and is the worst case the local search found."""
+    rng = np.random.default_rng(30 + seed)
+    system, cost = random_lq_problem(rng)
+    n, M = system.n, 4
+    x, W_hat = rng.standard_normal(n), 0.1 * rng.standard_normal((M, n))
+    E = orrc.Box(-0.2, 0.2, n=n)
+    general = RobustPreviewRHC(_as_general_system(system), cost, M, E=E)
+    exact = RobustPreviewRHC(system, cost, M, E=E)
+    assert (general.method, general.exact, exact.method, exact.exact) == ("exchange", False, "exact", True)
+    a, V = general.plan(x, W_hat), exact.plan(x, W_hat).value
+    tol = 1e-9 * max(1.0, V)            # the two formulations round differently
+    assert a.success and a.lower <= V + tol
+    assert abs(a.value - V) <= a.gap + tol
+
+    def J(U, errors):
+        xj, total = x, 0.0
+        for j in range(M):
+            total += xj @ cost.Q @ xj + U[j] @ cost.R @ U[j]
+            xj = system.A @ xj + system.B @ U[j] + W_hat[j] + errors[j]
+        return total
+
+    corners = [np.array(v) for v in itertools.product((-0.2, 0.2), repeat=n)]
+    worst = max(J(a.inputs, list(seq) + [np.zeros(n)]) for seq in itertools.product(corners, repeat=M - 1))
+    assert worst >= V - tol
+    assert abs(worst - a.upper) <= tol
+
+
+def test_a_closed_loop_with_a_zero_forecast_and_e_equal_to_w_is_algorithm_3s_on_time_varying_costs():
+    """Step by step (warm starts shifted the same way, the previewed costs c_t..c_{t+M-1} passed as
+    the exchange's parameters beside the forecast), the robust controller on the zero forecast with
+    E = W applies Algorithm 3's inputs on the pendulum."""
+    pend, M, T = _pendulum(), 6, 8
+    W = orrc.Box(-0.05, 0.05, n=2)
+    costs = pend.cost.scaled(1.0 + 0.5 * np.sin(np.arange(T + M)))
+    w = W.sample(T, 3)
+    robust = RobustPreviewRHC(pend.system, pend.cost, M, E=W, input_bounds=pend.input_bounds)
+    a = orrc.simulate(pend.system, robust, pend.x0, w, T, costs=costs, forecast=Zero())
+    b = orrc.simulate(pend.system, orrc.MinMaxRHC(pend.system, pend.cost, M, W, input_bounds=pend.input_bounds,
+                                                  method="exchange"), pend.x0, w, T, costs=costs)
+    assert a.success.all() and b.success.all()
+    assert np.abs(a.u - b.u).max() <= 1e-8 * max(1.0, np.abs(b.u).max())
+    plain = orrc.simulate(pend.system, robust, pend.x0, w, T, forecast=Zero())
+    assert np.abs(plain.u - a.u).max() > 1e-3              # the previewed costs were used
+
+
+def test_robust_preview_on_the_pendulum_never_reads_the_truth():
+    """simulate's information pattern holds for the nonlinear path: the controller is handed the
+    forecast (here a bias added to the truth), never the true window; its plans are those of a
+    direct plan() call on the forecast windows the run recorded."""
+    pend, M, T = _pendulum(), 6, 12
+    w = orrc.disturbances.sinusoid(L=T + M, n=2, amplitude=0.05, period=40) * [0.0, 1.0]
+    E = orrc.Box([0.0, -0.1], [0.0, 0.1])
+    seen = []
+
+    class Watching(RobustPreviewRHC):
+        def control(self, obs):
+            seen.append(np.array(obs.w_preview))
+            return super().control(obs)
+
+    ctl = Watching(pend.system, pend.cost, M, E=E, input_bounds=pend.input_bounds)
+    traj = orrc.simulate(pend.system, ctl, pend.x0, w, T=T, forecast=Bias([0.0, 0.1]))
+    assert traj.success.all() and traj.info["method"] == "exchange"
+    for t, window in enumerate(seen):
+        assert np.array_equal(window, traj.forecasts[t])
+        assert np.allclose(window - w[t:t + M], [0.0, 0.1], rtol=0, atol=1e-15)  # never the truth itself
+    cold = RobustPreviewRHC(pend.system, pend.cost, M, E=E, input_bounds=pend.input_bounds)
+    first = cold.plan(pend.x0, traj.forecasts[0])
+    assert np.array_equal(first.inputs[0], traj.u[0])
+    assert np.all(traj.info["gap"] <= 1e-6 * traj.info["upper"] + 1e-10)
+
+
+def test_a_nonlinear_robust_plan_hedges_for_more_cost_as_the_box_grows():
+    pend, M = _pendulum(), 6
+    W_hat = np.zeros((M, 2))
+    values = [RobustPreviewRHC(pend.system, pend.cost, M, E=orrc.Box([0.0, -r], [0.0, r]),
+                               input_bounds=pend.input_bounds).plan(pend.x0, W_hat).value for r in (0.0, 0.05, 0.2)]
+    assert values[0] < values[1] < values[2]
+
+
+def test_a_failed_exchange_is_reported_and_contained():
+    """An exchange allowed one iteration does not close its gap: plan() warns once and returns the
+    best plan found, marked. In closed loop a failed step (both rungs) applies the last good plan
+    shifted by one, is marked, simulate warns once; failures in a row stop the run (SolverError)."""
+    pend = _pendulum()
+    short = RobustPreviewRHC(pend.system, pend.cost, 10, E=orrc.Ball(0.1, 2), input_bounds=pend.input_bounds,
+                             exchange_options={"max_iter": 1})
+    with pytest.warns(orrc.SolverWarning, match="min-max solve did not succeed") as record:
+        p = short.plan(np.zeros(2), np.zeros((10, 2)))
+    assert len(record) == 1
+    assert not p.success and "no convergence" in p.status and p.fallback
+    assert np.all(np.isfinite(p.inputs)) and p.lower <= p.upper
+
+    M, T, E = 6, 6, orrc.Box([0.0, -0.1], [0.0, 0.1])
+    w = orrc.disturbances.sinusoid(L=T + M, n=2, amplitude=0.05, period=40) * [0.0, 1.0]
+    flaky = RobustPreviewRHC(pend.system, pend.cost, M, E=E, input_bounds=pend.input_bounds, max_failures=None)
+    real = flaky._solver.solve
+
+    def fail_at_step_2(*args):
+        plan = real(*args)
+        if len(flaky._log) == 2:
+            plan.success, plan.status = False, "forced failure"
+        return plan
+
+    flaky._solver.solve = fail_at_step_2
+    with pytest.warns(orrc.SolverWarning) as record:
+        traj = orrc.simulate(pend.system, flaky, pend.x0, w, T, forecast=Bias([0.0, 0.1]))
+    assert len([r for r in record if issubclass(r.category, orrc.SolverWarning)]) == 1
+    assert list(traj.success) == [True, True, False, True, True, True]
+    assert "forced failure" in traj.status[2] and np.isnan(traj.info["value"][2])
+    np.testing.assert_array_equal(traj.u[2], flaky._log[1].inputs[1])      # the step-1 plan, shifted by one
+
+    def forced(*args):
+        plan = real(*args)
+        plan.success, plan.status = False, "forced failure"
+        return plan
+
+    stubborn = RobustPreviewRHC(pend.system, pend.cost, M, E=E, input_bounds=pend.input_bounds)
+    stubborn._solver.solve = forced
+    with pytest.raises(orrc.SolverError, match="robust preview RHC.*3 consecutive"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        orrc.simulate(pend.system, stubborn, pend.x0, w, T, forecast=Bias([0.0, 0.1]))
 
 
 # ---------------------------------------------------------------- the λ-confident policy

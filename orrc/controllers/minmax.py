@@ -261,10 +261,7 @@ class MinMaxRHC(Controller):
             return self._solver.solve(x, P, guess, working)
         if self.method == "exchange":
             Pm = np.broadcast_to(self.cost.default_params, (M, self.cost.n_params)) if P is None else P
-            scen = None
-            if prev is not None:
-                seqs = list(prev.extra.get("active_scenarios", [])) + [prev.worst_w]
-                scen = [np.vstack([s[k:], np.repeat(s[-1:], k, axis=0)]) for s in seqs]
+            guess, scen = (None, None) if prev is None else self._solver.shifted(prev, k)
             return self._solver.solve(x, np.asarray(Pm, float), guess, scen)
         return self._game_plan(x, P)
 

@@ -31,6 +31,12 @@ programs:
   large, and equals it when the search found the global maximum (which a local search cannot
   certify).
 
+**Around a nominal sequence** (``nominal=True``): the disturbance of stage j is ŵ_j + w_j, with
+the nominal ŵ_j in the last n rows of that stage's parameters (the rows after the cost's), and
+the maximum is over the deviations w ∈ W^M: min_U max_{W ∈ W^M} J(x, U, Ŵ + W). That is the
+robust preview problem around a forecast Ŵ (:class:`orrc.RobustPreviewRHC`); the forecast is a
+parameter, so nothing is rebuilt when it changes from one step to the next.
+
 The worst sequence found joins S, and the loop repeats until upper - lower <= rtol·|upper| +
 atol, or ``max_iter`` iterations (then ``success`` is False: the caller reports it). The
 plan returned is the one with the smallest ``upper`` seen. With ``max_scenarios`` slots in use,
@@ -88,6 +94,8 @@ class ScenarioExchange:
     seed : seed of the random starts (each solve draws them afresh from it: deterministic).
     fw_iter : the most conditional-gradient steps of one inner ascent.
     verify_factor : the wider search that confirms convergence uses ``verify_factor * n_starts`` starts.
+    nominal : when True, the disturbance is ŵ_j + w_j with ŵ_j the last n entries of the stage's
+        parameter row: ``solve``'s P is then (M, n_params + n), and W bounds the deviation w_j.
 
     Examples
     --------
@@ -112,11 +120,12 @@ class ScenarioExchange:
 
     def __init__(self, system, cost, M: int, W, input_bounds=None, rtol: float = 1e-6, atol: float = 1e-10,
                  max_iter: int = 30, n_starts: int = 8, max_scenarios: int = 64, solver: str = "sqpmethod",
-                 solver_options=None, seed=0, fw_iter: int = 50, verify_factor: int = 4):
+                 solver_options=None, seed=0, fw_iter: int = 50, verify_factor: int = 4, nominal: bool = False):
         as_seed("seed", seed)      # a seed numpy cannot use is refused here, not at the first solve
         # the expression graphs built now: J over M stages, its gradient, the rollout and the first outer
         # problem (4 scenario slots); larger outer problems are built when the exchange needs them
-        per_stage = 30 + 4 * (system.n + system.m + cost.n_params)
+        npar = cost.n_params
+        per_stage = 30 + 4 * (system.n + system.m + npar + (system.n if nominal else 0))
         nodes = 8.0 * M * per_stage
         check_size(f"the scenario exchange's CasADi problems at the horizon M={M} (n={system.n}, m={system.m})",
                    nbytes=400.0 * nodes, ops=_OPS_PER_NODE * nodes, hint="lower M")
@@ -124,18 +133,19 @@ class ScenarioExchange:
         self.rtol, self.atol, self.max_iter = rtol, atol, max_iter
         self.n_starts, self.max_scenarios, self.fw_iter, self.seed = n_starts, max_scenarios, fw_iter, seed
         self.solver_name, self.solver_options = solver, dict(solver_options or {})
-        n, m, npar = self.n, self.m, cost.n_params
+        self.nominal = bool(nominal)
+        n, m = self.n, self.m
         x = ca.SX.sym("x", n)
         U = ca.SX.sym("U", m, M)
         Wm = ca.SX.sym("W", n, M)
-        P = ca.SX.sym("P", npar, M)
+        P = ca.SX.sym("P", npar + (n if self.nominal else 0), M)   # cost parameters, then ŵ_j (nominal)
         J, xj, states = 0, x, [x]
         for j in range(M):
-            J += cost.expr(xj, U[:, j], P[:, j])
-            xj = system.symbolic(xj, U[:, j], Wm[:, j])
+            J += cost.expr(xj, U[:, j], P[:npar, j])
+            xj = system.symbolic(xj, U[:, j], Wm[:, j] + P[npar:, j] if self.nominal else Wm[:, j])
             states.append(xj)
         self._J = ca.Function("J", [x, U, Wm, P], [J])
-        self._rollout = ca.Function("rollout", [x, U, Wm], [ca.horzcat(*states)])
+        self._rollout = ca.Function("rollout", [x, U, Wm, P], [ca.horzcat(*states)])
         self._JG = ca.Function("JG", [x, U, Wm, P], [J, ca.gradient(J, Wm)])
         self._d = n * (M - 1)                    # the coordinates of w_0..w_{M-2} (w_{M-1} is not costed)
         # batched evaluations (one CasADi call per ascent step: the call overhead dominates on these
@@ -312,6 +322,17 @@ class ScenarioExchange:
         return self._search(x, U, P, self._random_starts(rng, self.n_verify), self.n_starts)
 
     # -- the exchange loop -----------------------------------------------------------------------
+    @staticmethod
+    def shifted(prev: MinMaxPlan, k: int) -> tuple[np.ndarray, list[np.ndarray]]:
+        """The warm start of a receding-horizon step from a plan solved k >= 1 steps earlier: its
+        inputs and its scenarios (those active in its last outer problem, and its worst sequence),
+        each shifted k stages (the last row repeated), as ``solve``'s ``guess_U`` and ``scenarios``."""
+        def shift(rows):
+            return np.vstack([rows[k:], np.repeat(rows[-1:], k, axis=0)])
+
+        seqs = list(prev.extra.get("active_scenarios", [])) + [prev.worst_w]
+        return shift(prev.inputs), [shift(s) for s in seqs]
+
     def _distinct(self, W, S) -> bool:
         """W differs from every sequence of S in w_0..w_{M-2} (w_{M-1} is not costed)."""
         return all(np.max(np.abs(W[:-1] - s[:-1]), initial=0.0) > 1e-9 * self.scale for s in S)
@@ -324,7 +345,8 @@ class ScenarioExchange:
         x : ndarray
             The state (n,).
         P : ndarray
-            The cost parameters of the M stages, (M, n_params).
+            The cost parameters of the M stages, (M, n_params); with ``nominal``, each row followed
+            by the nominal disturbance ŵ_j of its stage, (M, n_params + n).
         guess_U : ndarray, optional
             A guess of the plan, (M, m) (clipped to the input bounds).
         scenarios : ndarray, optional
@@ -419,7 +441,7 @@ class ScenarioExchange:
             upper, Ub, Wb = float(Jloc[0]), U, Wloc[0]
         if not ok:
             status += f" (lower {lower:.6g}, upper {upper:.6g})"
-        states = np.asarray(self._rollout(x, Ub.T, Wb.T)).T
+        states = np.asarray(self._rollout(x, Ub.T, Wb.T, P.T)).T
         return MinMaxPlan(inputs=Ub, states=states, value=float(upper), success=ok, status=status, solver=self.solver_name,
                           iterations=iters, solve_time=time.perf_counter() - t0, worst_w=Wb, lower=float(lower),
                           upper=float(upper), method="exchange", certified=False, scenarios=len(S),
