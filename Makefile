@@ -5,6 +5,9 @@ SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
+# uv (pinned in requirements.txt, from the package registry) installs the pinned requirements: the same
+# packages pip would install, downloaded in parallel; `pip check` confirms the result
+UV := $(VENV)/bin/uv
 STAMP := $(VENV)/.installed
 LAB_STAMP := $(VENV)/.lab-installed
 LAB_SETTINGS := $(VENV)/share/jupyter/lab/settings
@@ -19,8 +22,9 @@ AXE := $(AXE_DIR)/node_modules/axe-core/axe.min.js
 
 $(STAMP): requirements.txt pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -r requirements.txt
+	$(PY) -m pip install --quiet --disable-pip-version-check "$$(grep '^uv==' requirements.txt)"
+	$(UV) pip install --quiet --python $(PY) -r requirements.txt
+	$(PY) -m pip check --disable-pip-version-check
 	PYTHONWARNINGS="ignore:Editable installation" $(PY) -m pip install --quiet --no-deps -e .   # no setuptools banner
 	touch $(STAMP)
 
@@ -52,7 +56,8 @@ test: $(STAMP) $(LAB_STAMP) $(AXE)
 
 # JupyterLab (pinned, requirements-lab.txt) in the same .venv, chapters open as notebooks
 $(LAB_STAMP): $(STAMP) requirements-lab.txt tools/jupyterlab-overrides.json
-	$(PY) -m pip install --quiet -r requirements.txt -r requirements-lab.txt
+	$(UV) pip install --quiet --python $(PY) -r requirements.txt -r requirements-lab.txt
+	$(PY) -m pip check --disable-pip-version-check
 	mkdir -p $(LAB_SETTINGS)
 	cp tools/jupyterlab-overrides.json $(LAB_SETTINGS)/overrides.json
 	touch $(LAB_STAMP)
