@@ -193,7 +193,7 @@ def single_runs(graded):
 
 @after("graded", "single_runs")
 def grade_one_by_one(graded):
-    """Every notebook of SINGLE graded by its own ``otter run`` (tools.assignments.grade), by the
+    """Every notebook of SINGLE graded by its own ``otter run`` (tools.grading.grade), by the
     interpreter that graded the session's batch, each in a folder of its own."""
     r = graded[SINGLE]
     work = Path(tempfile.mkdtemp(prefix="orrc-single-runs-"))
