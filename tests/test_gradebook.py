@@ -123,6 +123,7 @@ def clone(graded):
 def run_the_documented_commands(graded):
     here = Path(tempfile.mkdtemp(prefix="orrc-clone-"))     # outside the repository, removed at exit
     atexit.register(shutil.rmtree, here, True)
+    atexit.register(NETWORK_MARK.unlink, missing_ok=True)
     (here / "_build").mkdir()
     (here / "_build" / "assignments").symlink_to(Path(graded[FIRST]["paths"]["student"]).parents[3])
     (here / ".venv").symlink_to(ROOT / ".venv")
