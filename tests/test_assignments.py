@@ -16,17 +16,20 @@ line or hidden test of an assignment is in the built HTML.
 from __future__ import annotations
 
 import json
+import multiprocessing
 import os
 import re
 import shutil
 import sys
+import tempfile
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import pytest
 import yaml
 
-from conftest import BOOK_OUT
-from tools import assignments
+from conftest import BOOK_OUT, after, background
+from tools import assignments, grading
 
 ROOT = Path(__file__).resolve().parents[1]
 FIXTURES = ROOT / "tests" / "fixtures" / "assignments"
@@ -178,6 +181,47 @@ def test_wrong_submissions_fail_a_hidden_test_and_a_public_one_where_fair(graded
             assert all(t["checks"] in output for t in public)
 
 
+#: the assignment whose notebooks are graded once more, one ``otter run`` each, to compare with the
+#: session's gradings (all in one process): the one whose notebooks cost the least to grade
+SINGLE = "a5_minmax"
+
+
+@pytest.fixture(scope="module")
+def single_runs(graded):
+    return background("single_runs")
+
+
+@after("graded", "single_runs")
+def grade_one_by_one(graded):
+    """Every notebook of SINGLE graded by its own ``otter run`` (tools.grading.grade), by the
+    interpreter that graded the session's batch, each in a folder of its own."""
+    r = graded[SINGLE]
+    work = Path(tempfile.mkdtemp(prefix="orrc-single-runs-"))
+    try:
+        return {label: grading.grade(nb, r["paths"]["autograder"], work / label, r["python"])
+                for label, nb in r["submissions"].items()}
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+@pytest.mark.slow
+def test_one_process_grades_as_one_otter_run_per_notebook(graded, single_runs):
+    """The session grades all notebooks in one process per environment (tools.grading, otter
+    imported once); each notebook gets the points per question, and fails the test cases, that its
+    own ``otter run`` gives it."""
+    batch = graded[SINGLE]["grades"]
+    assert set(single_runs) == set(batch) and {"solution", "blank", "wrong"} <= set(batch)
+    scores = set()
+    for label, single in single_runs.items():
+        got = batch[label]["questions"]
+        assert list(got) == list(single["questions"]), label
+        for q, (score, pts, output) in single["questions"].items():
+            assert got[q][:2] == (score, pts), f"{SINGLE} {label} {q}: batch {got[q][:2]}, otter run {(score, pts)}"
+            assert _failed(got[q][2], q) == _failed(output, q), f"{SINGLE} {label} {q}"
+        scores.add((single["score"] == single["points"], single["score"] == 0))
+    assert scores >= {(True, False), (False, False)}, scores   # a full mark and a wrong question among them
+
+
 @pytest.mark.slow
 def test_student_notebooks_end_with_the_export_cell(graded):
     import nbformat
@@ -221,8 +265,22 @@ def test_a_solution_outside_a_solution_block_is_refused(tmp_path):
     (tmp_path / NAMES[0] / f"{NAMES[0]}.md").write_text(text, encoding="utf-8")
     wheel = tmp_path / "orrc-0.0.0-py3-none-any.whl"   # packed, never installed: no need to build one
     wheel.write_bytes(b"")
-    with pytest.raises(RuntimeError, match="still holds solution"):
-        assignments.build(NAMES[0], tmp_path / "out", tmp_path, wheel)
+    # in a process of its own, as make assignments builds: a build parses Python (ast), which one
+    # interpreter must not do in two threads at once, and the session's background threads may
+    with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as proc:
+        with pytest.raises(RuntimeError, match="still holds solution"):
+            proc.submit(assignments.build, NAMES[0], tmp_path / "out", tmp_path, wheel).result()
+
+
+def test_no_assignment_runs_its_tests_when_built():
+    """otter assign executes no notebook (``run_tests: false``): each solution is executed once, when
+    the gradings grade it (and get it full marks, test_solution_gets_full_marks_and_blank_does_not)."""
+    import jupytext
+
+    for name in NAMES:
+        nb = jupytext.read(assignments.SOURCES / name / f"{name}.md", fmt="md:myst")
+        config = next(conf for head, conf in map(assignments._raw_header, nb.cells) if head == "ASSIGNMENT CONFIG")
+        assert config.get("run_tests") is False, f"{name}: otter assign would run the tests on the solution"
 
 
 def test_assignments_are_excluded_from_the_book():

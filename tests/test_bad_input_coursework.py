@@ -8,6 +8,8 @@ tests (or, graded by hand, without points), and a test message that would break 
 otter assign writes. The class gradebook (tools.gradebook) refuses an assignment without a built
 autograder and a submissions path that is not a folder, naming them.
 """
+import atexit
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -33,6 +35,7 @@ QUESTION = ("```{{raw-cell}}\n# BEGIN QUESTION\nname: q1\n```\n\n```{{raw-cell}}
 
 def _assignment(text: str) -> Path:
     folder = Path(tempfile.mkdtemp(prefix="orrc-assign-"))
+    atexit.register(shutil.rmtree, folder, True)
     path = folder / "a0_test.md"
     path.write_text(text, encoding="utf-8")
     return path

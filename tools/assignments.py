@@ -12,11 +12,14 @@ pinned requirements of :mod:`tools.autograder_env` in its config) and runs ``ott
 ``_build/assignments/NAME/``: ``student/`` (what students get: ``NAME.ipynb``, solutions and
 hidden tests removed, the orrc wheel and ``requirements.txt``, the pinned list to set up from,
 see :func:`write_student_requirements`), ``solution/`` (for the lecturer: the solution notebook
-without markers or tests, :func:`clean_solution`, and it as a PDF) and ``autograder/`` (the solution notebook and the autograder zip). :func:`grade`
-grades a notebook with ``otter run`` (locally, no container; by default with this environment's
-otter and kernel, or with another interpreter's, e.g. a fresh environment built from the zip
-alone). Questions marked ``manual: true`` are written answers graded by hand (no tests; their
-points in the question's config). :func:`main` grades each
+without markers or tests, :func:`clean_solution`, and it as a PDF) and ``autograder/`` (the
+solution notebook and the autograder zip); ``otter assign`` runs no notebook (``run_tests:
+false``). :func:`grade_built` then grades every notebook as ``otter run`` does (locally, no
+container; by default with this environment's otter and kernel, or with another interpreter's,
+e.g. a fresh environment built from the zip alone), all in one process per interpreter
+(:func:`tools.grading.grade_many`), so that each notebook is executed once. Questions marked
+``manual: true`` are written answers graded by hand (no tests; their points in the question's
+config). :func:`main` grades each
 solution notebook and each untouched student notebook and prints one line per assignment,
 
     NAME: solution P/P points, blank Q/P points
@@ -27,20 +30,22 @@ from __future__ import annotations
 
 import argparse
 import ast
+import contextlib
+import io
 import json
 import multiprocessing
 import os
 import re
 import shutil
-import subprocess
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import yaml
 
 from tools import autograder_env, grading_prelude, handout_leaks, written_answers
+from tools.grading import grade_many
 
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = ROOT / "assignments"
@@ -120,10 +125,6 @@ def read_assignment(path: Path) -> dict:
             "minutes": int(meta["minutes"]),
             "questions": questions, "points": sum(t["points"] for q in questions for t in q["tests"]),
             "manual_points": sum(q["manual_points"] for q in questions)}
-
-
-def _bin(tool: str) -> str:
-    return str(Path(sys.executable).parent / tool)
 
 
 def to_ipynb(md: Path, dest: Path) -> Path:
@@ -255,6 +256,23 @@ def clean_solution(solution: Path, dest: Path):
     return nb
 
 
+def otter_assign(master: Path, dist: Path) -> None:
+    """``otter assign MASTER DIST`` (what the command calls, with its defaults), in this process: a
+    process that builds several assignments imports otter once. It runs no notebook (the
+    assignments' configs say ``run_tests: false``: the solution is graded once, afterwards, by
+    :func:`tools.grading.grade_many`). Like every build step that parses Python (``ast``), call it from one thread
+    of a process at a time (see :func:`run_all`). Raises RuntimeError with otter's output."""
+    from otter.assign import main as assign
+
+    said = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said):
+            assign(str(Path(master).resolve()), str(Path(dist).resolve()))
+    except Exception as exc:  # noqa: BLE001 -- whatever otter raises, the build stops with its message
+        raise RuntimeError(f"otter assign failed for {Path(master).stem}: {type(exc).__name__}: {exc}\n"
+                           f"{said.getvalue()[-3000:]}") from exc
+
+
 def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None = None) -> dict:
     """``otter assign`` one assignment into ``out/NAME``: paths of the student and solution notebooks
     and of the autograder zip. ``wheel``: the orrc wheel to put in the autograder (built if None)."""
@@ -264,10 +282,7 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None =
     master = to_ipynb(Path(root) / name / f"{name}.md", dest / "master" / f"{name}.ipynb")
     own_their_tools(master)
     self_contained(master, wheel or autograder_env.build_wheel(dest / "wheel"))
-    proc = subprocess.run([_bin("otter"), "assign", str(master), str(dest / "dist")], capture_output=True, text=True,
-                          cwd=master.parent)
-    if proc.returncode != 0:
-        raise RuntimeError(f"otter assign failed for {name}:\n{proc.stdout}\n{proc.stderr}")
+    otter_assign(master, dest / "dist")
     zips = sorted((dest / "dist" / "autograder").glob(f"{name}-autograder_*.zip"))
     if len(zips) != 1:
         raise RuntimeError(f"otter assign wrote {len(zips)} autograder zips for {name}")
@@ -285,34 +300,6 @@ def build(name: str, out: Path = OUT, root: Path = SOURCES, wheel: Path | None =
             "solution": dest / "dist" / "autograder" / f"{name}.ipynb", "autograder": zips[0],
             "clean_solution": dest / "dist" / "solution" / f"{name}.ipynb",
             "solutions_pdf": dest / "dist" / "solution" / f"{name}-solutions.pdf"}
-
-
-def grade(notebook: Path, autograder: Path, workdir: Path, python: str | None = None) -> dict:
-    """Grade one notebook with ``otter run`` (local, no container): {"score", "points", "questions"}.
-
-    ``questions`` maps each question to (score, max score) and its output (which test failed, why).
-    ``python``: the interpreter whose otter grades (default: this environment's), e.g. one of a
-    fresh environment built from the autograder zip alone.
-    """
-    if workdir.exists():
-        shutil.rmtree(workdir)
-    workdir.mkdir(parents=True)
-    cmd = [python, "-m", "otter"] if python else [_bin("otter")]
-    # another interpreter grades with its own packages only: nothing of this checkout on its path
-    env = {k: v for k, v in os.environ.items() if not (python and k in ("PYTHONPATH", "VIRTUAL_ENV"))}
-    proc = subprocess.run([*cmd, "run", "-a", str(Path(autograder).resolve()), "-o", str(workdir.resolve()), "--no-logo",
-                           str(Path(notebook).resolve())], capture_output=True, text=True, cwd=workdir, env=env)
-    results = workdir / "results.json"
-    if not results.is_file():
-        raise RuntimeError(f"otter run wrote no results for {notebook}:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
-    tests = json.loads(results.read_text())["tests"]
-    questions = {t["name"]: (float(t.get("score") or 0.0), float(t["max_score"]), t.get("output", ""))
-                 for t in tests if t.get("max_score") is not None}
-    if not questions:  # otter's "Autograder Failed": the notebook or a test file did not run at all
-        raise RuntimeError(f"otter run graded no question of {notebook}: "
-                           + "; ".join(str(t.get("output", ""))[-1500:] for t in tests))
-    return {"score": sum(s for s, _, _ in questions.values()), "points": sum(p for _, p, _ in questions.values()),
-            "questions": questions}
 
 
 def fill_in(student: Path, answers: Path, dest: Path) -> Path:
@@ -347,17 +334,32 @@ def build_submissions(name: str, out: Path = OUT, root: Path = SOURCES, extra: d
     return {"name": name, "paths": paths, "submissions": subs, "seconds": time.perf_counter() - t0}
 
 
+def _notebooks(built: dict, out: Path) -> list[tuple[str, tuple[Path, Path, Path]]]:
+    """(label, (notebook, autograder, working folder)) for every notebook of ``built`` to grade."""
+    return [(label, (nb, built["paths"]["autograder"], Path(out) / built["name"] / "graded" / label))
+            for label, nb in built["submissions"].items()]
+
+
+def grade_built(built: list[dict], out: Path = OUT, python=None, workers: int = 2) -> list[dict]:
+    """Grade every notebook of every assignment of ``built`` (:func:`build_submissions` results)
+    with :func:`grade_many`: one process per grading interpreter for all the assignments it grades,
+    ``workers`` notebooks at a time. ``python(paths)``: the interpreter that grades an assignment
+    (see :func:`tools.grading.grade`), given its built paths. Returns each of ``built`` with "grades"
+    ({label: grade}) and "python" added, "seconds" the build's and its gradings' time."""
+    exes = [python(b["paths"]) if python else None for b in built]
+    grades: list[dict] = [{} for _ in built]
+    for exe in dict.fromkeys(exes):
+        todo = [(i, label, item) for i, b in enumerate(built) if exes[i] == exe for label, item in _notebooks(b, out)]
+        for (i, label, _), g in zip(todo, grade_many([item for _, _, item in todo], exe, workers)):
+            grades[i][label] = g
+    return [{**b, "grades": g, "python": exe or sys.executable,
+             "seconds": b["seconds"] + sum(x["seconds"] for x in g.values())}
+            for b, g, exe in zip(built, grades, exes)]
+
+
 def grade_submissions(built: dict, out: Path = OUT, python=None) -> dict:
-    """Grade every notebook of ``built`` (:func:`build_submissions`); ``python(paths)``: the
-    interpreter that grades (see :func:`grade`), given the built paths. Returns ``built`` with
-    "grades" ({label: grade}) and "python" added, "seconds" the build's and the gradings' time."""
-    t0 = time.perf_counter()
-    name, paths = built["name"], built["paths"]
-    exe = python(paths) if python else None
-    grades = {label: grade(nb, paths["autograder"], Path(out) / name / "graded" / label, exe)
-              for label, nb in built["submissions"].items()}
-    return {**built, "grades": grades, "python": exe or sys.executable,
-            "seconds": built["seconds"] + time.perf_counter() - t0}
+    """Grade every notebook of one assignment's ``built`` (:func:`build_submissions`, :func:`grade_built`)."""
+    return grade_built([built], out, python)[0]
 
 
 def build_and_grade(name: str, out: Path = OUT, root: Path = SOURCES, extra: dict | None = None,
@@ -379,7 +381,8 @@ def ok(result: dict) -> bool:
 
 def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None, python=None,
             on_built=None) -> list[dict]:
-    """Build every assignment, then grade them all (``workers`` at a time; one orrc wheel for all);
+    """Build every assignment, then grade them all (:func:`grade_built`: ``workers`` notebooks at a
+    time, in one process per grading interpreter; one orrc wheel for all);
     ``extra(name)`` gives more notebooks to grade, ``python`` the interpreter that grades (see
     :func:`build_and_grade`). ``on_built(built)`` is called with every assignment's
     :func:`build_submissions` result once all are built, before the first grading, so that work
@@ -394,8 +397,7 @@ def run_all(out: Path = OUT, root: Path = SOURCES, workers: int = 2, extra=None,
                                [extra(n) if extra else None for n in todo], [wheel] * len(todo)))
     if on_built is not None:
         on_built(built)
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        return list(pool.map(lambda b: grade_submissions(b, out, python), built))
+    return grade_built(built, out, python, workers)
 
 
 def summary(results: list[dict]) -> tuple[str, int]:

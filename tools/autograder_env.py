@@ -23,6 +23,7 @@ import re
 import subprocess
 import sys
 import tomllib
+from functools import lru_cache
 from pathlib import Path
 
 from packaging.requirements import Requirement
@@ -67,14 +68,21 @@ def _closure(roots: list[str]) -> dict[str, set[str]]:
 def grading_requirements(wheel_name: str, root: Path = ROOT) -> list[str]:
     """The ``pip:`` lines of an autograder's environment: the pinned closure of what grading
     imports (``name[extras]==version``, versions from ``requirements.txt``) and the orrc wheel."""
-    project = tomllib.loads((Path(root) / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    return list(_pinned_closure(Path(root))) + [f"{WHEEL_FOLDER}/{wheel_name}"]
+
+
+@lru_cache(maxsize=4)
+def _pinned_closure(root: Path) -> tuple[str, ...]:
+    """The registry lines of :func:`grading_requirements`, computed once per process (every
+    assignment's build asks twice; the installed metadata does not change meanwhile)."""
+    project = tomllib.loads((root / "pyproject.toml").read_text(encoding="utf-8"))["project"]
     need = _closure(list(project["dependencies"]) + list(GRADING_ROOTS))
-    pinned = pins(Path(root) / "requirements.txt")
+    pinned = pins(root / "requirements.txt")
     lines = []
     for name, extras in sorted(need.items()):
         version = pinned.get(name) or md.version(name)
         lines.append(f"{name}{'[' + ','.join(sorted(extras)) + ']' if extras else ''}=={version}")
-    return lines + [f"{WHEEL_FOLDER}/{wheel_name}"]
+    return tuple(lines)
 
 
 def python_version() -> str:

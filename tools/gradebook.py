@@ -4,23 +4,27 @@
 
 grades every file of ``submissions/`` (one per student, the student named by the file's stem: a
 notebook, or the zip that the notebook's export cell writes)
-with the assignment's autograder (``otter run``, locally, two at a time) and writes, in the
-output folder (created),
+with the assignment's autograder (what ``otter run`` does, locally, two at a time, in one process
+that imports otter once: :mod:`tools.grading`) and writes, in the output folder (created),
 
 - ``gradebook.csv``: one row per student, one column per question (points), ``total``,
   ``possible`` and ``note`` (what stopped the grading of a submission, else empty);
 - ``feedback/STUDENT.md``: the student's points per question and, for each failed check, the
   message the assignment wrote for it (what to check), never the tests' source: otter's own
   output, which quotes the hidden tests' code in its tracebacks, is not copied;
-- ``otter/STUDENT/``: otter's raw results, for the instructor only (they hold hidden test source);
+- ``otter/STUDENT/``: otter's raw results and output, for the instructor only (they hold hidden
+  test source);
 - ``written/STUDENT.pdf``: the student's answers to the written questions, with the code-graded
   score, to grade by hand (:mod:`tools.written_answers`); the CSV's ``written`` column is left
   for those points (out of ``written_possible``).
 
-Each notebook runs in a sandbox (:func:`sandboxed`): its own process group, killed after
-``--time-limit`` seconds (an endless loop costs that submission only), a memory limit
-(``--memory``), and, where the machine allows unprivileged namespaces (``unshare``), no network
-(a network namespace with only its own loopback, which the kernel's channels need). One student
+Each notebook runs in a sandbox (:func:`grade_sandboxed`): a process and session of its own,
+killed with its kernel after ``--time-limit`` seconds (an endless loop costs that submission
+only), a memory limit (``--memory``), and, where the machine allows unprivileged namespaces
+(``unshare``), no network (a network namespace with only its own loopback, which the kernel's
+channels need). Running the command again grades only what changed: a file graded before in
+the same output folder with the same bytes, autograder and limits keeps its results (delete
+``otter/STUDENT/`` to grade it again). One student
 with several files (``alice.ipynb`` and ``alice.zip``) is one row: the newest file is graded
 and the note names the others. ``--roster roster.csv`` (columns ``id``, ``name``, ``email``; a
 file's stem is the student's id) adds the name and email to each row and a row for each student
@@ -39,21 +43,20 @@ import argparse
 import ast
 import csv
 import datetime as dt
+import hashlib
 import json
 import os
 import re
-import resource
 import shutil
-import signal
 import subprocess
 import sys
+import tempfile
 import zipfile
 from functools import lru_cache
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from tools import written_answers
-from tools.assignments import OUT, _bin
+from tools import grading, written_answers
+from tools.assignments import OUT
 
 _NAME_ERROR = re.compile(r"NameError: name '(\w+)' is not defined")
 _UNDEFINED = re.compile(r"NoneType'? object (?:is not callable|is not subscriptable|is not iterable|has no attribute)")
@@ -116,10 +119,7 @@ def precheck(path: Path, expected: str) -> str:
 
 def unpacked(path: Path, work: Path) -> tuple[Path, str]:
     """The notebook to grade and a note: ``path`` itself, or the one notebook of the zip that otter's
-    export cell writes (unpacked into ``work``, which is made empty first)."""
-    if work.exists():
-        shutil.rmtree(work)
-    work.mkdir(parents=True)
+    export cell writes (unpacked into ``work/submission/``)."""
     if not zipfile.is_zipfile(path):
         return path, ""
     with zipfile.ZipFile(path) as zf:
@@ -127,7 +127,7 @@ def unpacked(path: Path, work: Path) -> tuple[Path, str]:
         if len(inside) != 1:
             return path, f"a zip with {len(inside)} notebooks at its top level (one expected); nothing was graded"
         target = work / "submission" / inside[0]
-        target.parent.mkdir()
+        target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(zf.read(inside[0]))
     return target, ""
 
@@ -135,6 +135,7 @@ def unpacked(path: Path, work: Path) -> tuple[Path, str]:
 #: seconds a notebook may run, its tests included (``ORRC_GRADING_TIME_LIMIT`` overrides it)
 TIME_LIMIT = float(os.environ.get("ORRC_GRADING_TIME_LIMIT", 600))
 MEMORY_MB = 4096      # address space a notebook's processes may take
+GRADED = "graded.json"   # in otter/STUDENT/: what was graded there (see grading_key) and how it ended
 
 
 @lru_cache(maxsize=1)
@@ -155,56 +156,64 @@ def sandboxed(cmd: list[str]) -> list[str]:
     return ["unshare", "-rn", "sh", "-c", 'ip link set lo up && exec "$@"', "sandbox", *cmd]
 
 
-def run_limited(cmd: list[str], time_limit: float = TIME_LIMIT, memory_mb: int = MEMORY_MB) -> tuple[int | None, str]:
-    """Run ``cmd`` in its own process group with a memory limit; kill the group after
-    ``time_limit`` seconds. (return code, or None when killed; stderr)."""
-    def limits():
-        cap = memory_mb * 2 ** 20
-        resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
+def grading_key(path: Path, zip_path: Path, time_limit: float, memory_mb: int) -> str:
+    """What a grading depends on, hashed: the submission's and the autograder's bytes, the limits
+    and whether the network was cut. A file graded before under the same key is not graded again."""
+    h = hashlib.sha256()
+    for f in (path, zip_path):
+        h.update(Path(f).read_bytes() + b"\0")
+    h.update(f"{time_limit:g} {memory_mb} {network_isolation()}".encode())
+    return h.hexdigest()
 
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True, preexec_fn=limits)
-    try:
-        _, err = proc.communicate(timeout=time_limit)
-        return proc.returncode, err
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.communicate()
-        return None, ""
+
+def grade_sandboxed(jobs: list[dict], workers: int = 2) -> list[dict]:
+    """Grade ``jobs`` (each ``{"notebook", "autograder", "output_dir", "time_limit", "memory_mb"}``)
+    with this environment's otter, in one sandboxed process (:func:`sandboxed`, :mod:`tools.grading`:
+    otter imported once; each notebook in a process and a session of its own with its memory
+    limit, killed with its kernel after its time limit), ``workers`` at a time. Returns each job's
+    outcome (``{"returncode", "timed_out", "seconds", "cpu_seconds"}``); a job the batch left
+    without one gets ``returncode`` None and ``error``, what the batch said."""
+    if not jobs:
+        return []
+    with tempfile.TemporaryDirectory(prefix="orrc-gradebook-") as tmp:
+        listing = Path(tmp) / "jobs.json"
+        listing.write_text(json.dumps(jobs), encoding="utf-8")
+        cmd = [sys.executable, "-I", str(grading.SCRIPT), str(listing), "--workers", str(workers)]
+        proc = subprocess.run(sandboxed(cmd), capture_output=True, text=True, cwd=tmp)
+    outcomes = []
+    for job in jobs:
+        f = Path(job["output_dir"]) / grading.OUTCOME
+        outcomes.append(json.loads(f.read_text()) if f.is_file() else
+                        {"returncode": None, "timed_out": False, "seconds": 0.0,
+                         "error": (proc.stderr.strip().splitlines() or [f"exit {proc.returncode}"])[-1][:200]})
+    return outcomes
 
 
 def _failed_cases(question: str, output: str) -> set[int]:
     return {int(i) for i in re.findall(rf"{re.escape(question)} - (\d+) result:\s*\n\s*❌", output)}
 
 
-def grade_one(path: Path, zip_path: Path, work: Path, expected: str, cases: dict,
-              time_limit: float = TIME_LIMIT, memory_mb: int = MEMORY_MB) -> dict:
-    """Grade one submission: {"student", "scores": {question: points}, "note", "feedback": text}."""
-    student = path.stem
+def graded_row(student: str, expected: str, cases: dict, work: Path, outcome: dict | None, note: str,
+               time_limit: float) -> dict:
+    """One student's row from otter's results in ``work`` and the grading's ``outcome`` (None when
+    ``note`` says why nothing was graded): {"student", "scores": {question: points}, "possible",
+    "note", "feedback": text}."""
     scores = {q: 0.0 for q in cases}
-    path, note = unpacked(path, work)
-    note = note or precheck(path, expected)
-    written = []
-    if not note:
-        import nbformat
-
-        written = written_answers.read(nbformat.read(path, as_version=4))
     failed: dict[str, list[str]] = {}
     missing: set[str] = set()
     undefined: list[str] = []
-    if not note:
-        for old in work.glob("results*"):
-            shutil.rmtree(old) if old.is_dir() else old.unlink()
-        rc, err = run_limited(sandboxed([_bin("otter"), "run", "-a", str(zip_path), "-o", str(work), "--no-logo",
-                                         str(path)]), time_limit, memory_mb)
+    if outcome is not None and not note:
         results = work / "results.json"
-        tests = json.loads(results.read_text()).get("tests", []) if results.is_file() and rc is not None else []
+        timed_out = outcome.get("timed_out", False)
+        tests = json.loads(results.read_text()).get("tests", []) if results.is_file() and not timed_out else []
         graded = [t for t in tests if t.get("name") in cases and t.get("max_score") is not None]
-        if rc is None:
+        if timed_out:
             note = f"the notebook ran longer than the time limit ({time_limit:g} s; an endless loop?); nothing was graded"
         elif not graded:
-            note = ("the autograder could not run this notebook (otter: "
-                    + (err.strip().splitlines() or ["no results"])[-1][:200] + "); nothing was graded")
+            log = work / grading.LOG
+            printed = log.read_text(errors="replace").strip().splitlines() if log.is_file() else []
+            said = outcome.get("error") or (printed or ["no results"])[-1][:200]
+            note = f"the autograder could not run this notebook (otter: {said}); nothing was graded"
         for t in graded:
             q, output = t["name"], str(t.get("output", ""))
             scores[q] = float(t.get("score") or 0.0)
@@ -223,8 +232,44 @@ def grade_one(path: Path, zip_path: Path, work: Path, expected: str, cases: dict
     for q in cases:
         lines.append(f"- **{q}**: {scores[q]:g} / {possible[q]:g}")
         lines += [f"  - check: {m}" for m in failed.get(q, []) if m]
-    return {"student": student, "scores": scores, "possible": possible, "note": note, "written": written,
+    return {"student": student, "scores": scores, "possible": possible, "note": note,
             "feedback": "\n".join(lines) + "\n"}
+
+
+def grade_students(chosen: dict[str, Path], zip_path: Path, out: Path, expected: str, cases: dict,
+                   workers: int = 2, time_limit: float = TIME_LIMIT, memory_mb: int = MEMORY_MB) -> dict[str, dict]:
+    """Grade each student's file (``{student: path}``) into ``out/otter/STUDENT/``: {student: row}
+    (:func:`graded_row`, with "written", the written answers). A file that cannot be graded gets a
+    note instead (:func:`unpacked`, :func:`precheck`); the others are graded together
+    (:func:`grade_sandboxed`); a file graded before with the same key (:func:`grading_key`: the
+    same bytes, autograder and limits) keeps its results and is not graded again."""
+    import nbformat
+
+    prepared, jobs = {}, []
+    for student, path in sorted(chosen.items()):
+        work = out / "otter" / student
+        key = grading_key(path, zip_path, time_limit, memory_mb)
+        before = json.loads((work / GRADED).read_text()) if (work / GRADED).is_file() else {}
+        outcome = before.get("outcome") if before.get("key") == key else None
+        if outcome is None:
+            if work.exists():
+                shutil.rmtree(work)
+            work.mkdir(parents=True)
+        notebook, note = unpacked(path, work)
+        note = note or precheck(notebook, expected)
+        written = [] if note else written_answers.read(nbformat.read(notebook, as_version=4))
+        if not note and outcome is None:
+            jobs.append((student, key, {"notebook": str(Path(notebook).resolve()), "autograder": str(zip_path),
+                                        "output_dir": str(work.resolve()), "time_limit": time_limit,
+                                        "memory_mb": memory_mb}))
+        prepared[student] = (work, outcome, note, written)
+    for (student, key, _), outcome in zip(jobs, grade_sandboxed([j for _, _, j in jobs], workers)):
+        work, _, note, written = prepared[student]
+        prepared[student] = (work, outcome, note, written)
+        if "error" not in outcome:   # graded (a grading that never ran is tried again next time)
+            (work / GRADED).write_text(json.dumps({"key": key, "outcome": outcome}), encoding="utf-8")
+    return {student: {**graded_row(student, expected, cases, work, outcome, note, time_limit), "written": written}
+            for student, (work, outcome, note, written) in prepared.items()}
 
 
 def newest_per_student(files: list[Path]) -> dict[str, tuple[Path, str]]:
@@ -275,15 +320,12 @@ def grade_folder(name: str, submissions: Path, out: Path, zip_path: Path | None 
     out = Path(out)
     (out / "feedback").mkdir(parents=True, exist_ok=True)
 
-    def one(student):
-        path, dup = chosen[student]
-        row = grade_one(path.resolve(), zip_path, out / "otter" / student, expected, cases, time_limit, memory_mb)
-        row["note"] = "; ".join(n for n in (dup, row["note"]) if n)
-        row["late"] = lateness(path, deadline)
-        return row
-
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        rows = list(pool.map(one, sorted(chosen)))
+    graded = grade_students({s: p.resolve() for s, (p, _) in chosen.items()}, zip_path, out, expected, cases,
+                            workers, time_limit, memory_mb)
+    rows = []
+    for student, (path, dup) in sorted(chosen.items()):
+        row = graded[student]
+        rows.append({**row, "note": "; ".join(n for n in (dup, row["note"]) if n), "late": lateness(path, deadline)})
     roster = roster or {}
     possible = {q: sum(c["points"] for c in cs) for q, cs in cases.items()}
     for student in sorted(set(roster) - set(chosen)):
