@@ -21,6 +21,19 @@ f(·; θ̂), and a new estimate θ̂ is a new parameter value, not a new solver.
   :data:`~orrc.solvers.nlp_solvers.HPIPM_FROM` on, the QP solver is HPIPM instead, a Riccati recursion whose
   work grows linearly with M (the variables are then in stage order, ũ_0, x̃_1, ũ_1, ...; the checks below
   read them in either order).
+  **The Hessian** (``hessian``, :func:`~orrc.solvers.nlp_solvers.sqp_hessian`): the exact Hessian of the
+  Lagrangian above, or the Gauss-Newton Hessian, the objective's alone (the dynamics' curvature dropped, as
+  acados does for a least-squares cost): for a :class:`~orrc.QuadraticCost` it is the stage cost's own
+  Hessian, positive semi-definite and free to evaluate, not convexified. Both stop at the same KKT point
+  (SQP's stopping test reads the gradient of the Lagrangian and the constraint violation, not the Hessian),
+  and both answers pass the same acceptance checks below; the Gauss-Newton steps avoid the second derivatives
+  of the dynamics through the horizon and their convexification, at the price of linear convergence.
+  ``hessian="auto"`` takes Gauss-Newton for a quadratic stage cost from
+  :data:`~orrc.solvers.nlp_solvers.GAUSS_NEWTON_FROM` variables per stage (n + m) on, where the exact Hessian's
+  eigenvalue convexification was measured to give non-finite steps (the quadrotor, the chain of 12 masses),
+  the exact Hessian otherwise; ``hessian="exact"`` or ``"gauss-newton"`` (or
+  ``solver_options={"sqpmethod.hessian_approximation": ...}``, which :class:`~orrc.PreviewRHC` passes on)
+  forces it.
 * ``"ipopt"`` -- the interior-point solver IPOPT (tolerance 1e-9): slower per call, but it
   globalises with a filter line search and a restoration phase. Used as the fallback when SQP
   fails, and alone with ``PreviewRHC(..., solver="ipopt")``.
@@ -62,11 +75,11 @@ import numpy as np
 from .._casadi import Buffered, DropsBuffers, buffered
 from .._jit import COMPILE_AFTER, COUNTER_CHECKS, Compiled, compiled_function, compiled_nlpsol
 from .._validate import OrrcValueError, check_size
-from .nlp_solvers import (DEFAULT_IPOPT, DEFAULT_SQP, IPOPT, NLP_SOLVERS, OPTION_PREFIX, SOLVER_LABELS,  # noqa: F401
-                          SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _split_options,
-                          structured_qpsol)
+from .nlp_solvers import (DEFAULT_IPOPT, DEFAULT_SQP, GAUSS_NEWTON, IPOPT, NLP_SOLVERS, OPTION_PREFIX,  # noqa: F401
+                          SOLVER_LABELS, SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _split_options,
+                          sqp_hessian, structured_qpsol)
 from ..systems import System
-from ..costs import StageCost
+from ..costs import QuadraticCost, StageCost
 from .acceptance import ACCEPT_ATOL, ACCEPT_RTOL, acceptance_function, rejection  # noqa: F401  (importable here)
 from .plan import Plan, SolverWarning  # noqa: F401  (SolverWarning: importable here, as before)
 
@@ -103,10 +116,12 @@ class ShootingNLP(DropsBuffers):
     ``terminal``: a callable ``terminal(x)`` in CasADi operations, or None.
     ``solvers``: the CasADi solvers to build, in the order a controller tries them
     (:data:`NLP_SOLVERS`: SQP, then IPOPT). ``solver_options``: see the module docstring.
+    ``hessian``: SQP's Hessian, ``"auto"`` (by the cost and the state dimension), ``"exact"`` or
+    ``"gauss-newton"`` (module docstring); the one chosen is :attr:`hessian`.
     """
 
     def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
-                 state_bounds=None, terminal=None, solvers=NLP_SOLVERS, solver_options=None):
+                 state_bounds=None, terminal=None, solvers=NLP_SOLVERS, solver_options=None, hessian="auto"):
         n, m, npar = system.n, system.m, cost.n_params
         self.M, self.n, self.m = M, n, m
         self.n_theta = int(getattr(system, "n_params", 0) or 0)   # model parameters θ (ParametricSystem)
@@ -150,6 +165,9 @@ class ShootingNLP(DropsBuffers):
         #: the variables in stage order (ũ_0, x̃_1, ũ_1, x̃_2, ...), where SQP's QP solver needs it (HPIPM,
         #: :func:`~orrc.solvers.nlp_solvers.structured_qpsol`); else z = [vec U; x̃_1..x̃_M]
         self.stage_order = structured_qpsol(opts, solver_options, M, n, m)
+        #: SQP's Hessian: "exact" or "gauss-newton" (None: no SQP solver, or CasADi's limited-memory one)
+        self.hessian = sqp_hessian(hessian, opts, solver_options, n + m,
+                                   isinstance(cost, QuadraticCost) and terminal is None)
         nu = M * m
         z = ca.vertcat(ca.vec(U), ca.vec(X))   # the variables in the order the checks and the shift are written in
         if self.stage_order:
@@ -162,6 +180,10 @@ class ShootingNLP(DropsBuffers):
             self.order, self.iu, self.ix, zs = None, slice(0, nu), slice(nu, None), z
         p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp), theta)
         problem = {"x": zs, "f": J, "g": ca.vertcat(*g), "p": p}
+        if self.hessian == GAUSS_NEWTON:   # the objective's Hessian as SQP's Hessian of the Lagrangian
+            lam_f, lam_g = ca.SX.sym("lam_f"), ca.SX.sym("lam_g", M * n)
+            opts[SQP]["hess_lag"] = ca.Function("nlp_hess_l", [zs, p, lam_f, lam_g], [lam_f * ca.hessian(J, zs)[0]],
+                                                ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])
         self.problem = problem  # the transcription: z (above), p = [x; vec W; vec P; θ], g = 0
         self._nlpsol = {s: _nlpsol(s, problem, opts[s], solver_options) for s in self.solvers}
         self.solver_options = opts
@@ -217,7 +239,9 @@ class ShootingNLP(DropsBuffers):
             if key not in self._jit:
                 try:
                     self._jit[key] = (compiled_function(self._acceptance) if name == "acceptance" else
-                                      compiled_nlpsol(self._nlpsol[SQP], _PLUGIN[SQP], self.solver_options[SQP]))
+                                      compiled_nlpsol(self._nlpsol[SQP], _PLUGIN[SQP],   # (the library holds hess_lag)
+                                                      {k: v for k, v in self.solver_options[SQP].items()
+                                                       if k != "hess_lag"}))
                 except RuntimeError as exc:   # no C code for it (e.g. a user's callback among the options)
                     self._jit[key] = Compiled(name, None, None, error=f"no C code for it: {_last_line(exc)}")
         if wait:

@@ -14,6 +14,18 @@ Two of SQP's defaults serve the closed loop's speed and change no answer: ``erro
 unsuccessful solve raises, so a successful one is known without reading the solver's statistics;
 :meth:`ShootingNLP.solve <orrc.solvers.nlp.ShootingNLP.solve>` reads an unsuccessful one as before) and no multipliers of the parameters
 (``calc_lam_p`` off: nothing here uses them, and each solve saves a gradient evaluation).
+
+**SQP's Hessian** (:func:`sqp_hessian`). ``"exact"``: the Hessian of the Lagrangian, the cost's and the
+dynamics' second derivatives, convexified block by block (``eigen-clip``). ``"gauss-newton"``: the Hessian of
+the objective alone, the curvature of the dynamics dropped (what acados calls the Gauss-Newton Hessian of a
+least-squares cost; for a quadratic stage cost it is the cost's own, positive semi-definite, so it is not
+convexified). Either converges to the same KKT point (SQP stops on the gradient of the Lagrangian and the
+constraint violation, which do not involve the Hessian); they differ in the steps taken, and the
+Gauss-Newton Hessian costs nothing to evaluate and converges linearly, at a rate set by the dynamics'
+curvature times the multipliers. ``"auto"`` (the default) takes the Gauss-Newton Hessian for a
+:class:`~orrc.QuadraticCost` from :data:`GAUSS_NEWTON_FROM` variables per stage (n + m) on, where it is measured
+to pay, and the exact one otherwise. The choice is forced by :class:`~orrc.solvers.nlp.ShootingNLP`'s ``hessian``
+or by ``solver_options={"sqpmethod.hessian_approximation": "gauss-newton"}`` (or ``"exact"``).
 """
 from __future__ import annotations
 
@@ -75,9 +87,24 @@ _NEEDS_NLP_GRAD = ("calc_lam_p", "calc_lam_x", "calc_f", "calc_g")
 #: interior-point multipliers are complementary to about 1e-9: where the optimal cost J is tiny (below about
 #: 0.1), an answer can fail the acceptance check (1e-8 |J|) and the step is solved again by the next rung
 HPIPM_FROM = 30
-#: HPIPM's options: quiet (its own stopping tolerances: SQP's answers pass the acceptance checks with them, and
-#: tighter ones cost many more of its iterations)
-_HPIPM = {"error_on_fail": False}
+#: SQP's Hessians (:func:`sqp_hessian`): of the Lagrangian, or of the objective alone
+EXACT, GAUSS_NEWTON = "exact", "gauss-newton"
+#: what ``hessian`` may be (:class:`~orrc.solvers.nlp.ShootingNLP`)
+HESSIANS = ("auto", EXACT, GAUSS_NEWTON)
+#: the variables per stage (n + m) from which ``hessian="auto"`` takes the Gauss-Newton Hessian (quadratic stage
+#: costs only). Measured on orrc's closed loops at M = 50 (``benchmarks/scaling.py``): with the exact Hessian,
+#: CasADi's eigenvalue convexification (``eigen-clip``, and ``eigen-reflect`` alike) of stage blocks of 16 and 25
+#: variables gave non-finite steps (the quadrotor, n + m = 16: SQP failed at 28 of 30 steps and IPOPT took them;
+#: the chain of 12 masses, n + m = 25: at 7 of 100), while the Gauss-Newton Hessian, not convexified, solved every
+#: step by SQP (quadrotor 4.6 ms a step against 23.5 ms; chain 15 ms against 20 ms). Below, the exact Hessian's
+#: quadratic convergence pays: the chain of 4 and 6 masses (n + m = 9, 13) took 2.4 and 2.7 SQP iterations a step
+#: with it, 4.1 and 4.6 with Gauss-Newton, 1.4x and 1.3x the time
+GAUSS_NEWTON_FROM = 16
+#: HPIPM's options: quiet, and its ``"speed"`` mode (its own stopping tolerances: SQP's answers pass the acceptance
+#: checks with them, and tighter ones cost many more of its iterations). The mode changes how HPIPM iterates, not
+#: its tolerances: on the pendulum at M = 100 it gave the default mode's closed loop (the same costs to 1e-15)
+#: 1.3x sooner, and the chain's of 6 and 12 masses at M = 50 (to 1e-11) 1.1x and 1.15x sooner
+_HPIPM = {"error_on_fail": False, "hpipm": {"mode": "speed"}}
 
 
 
@@ -130,6 +157,37 @@ def structured_qpsol(opts: dict, given: dict | None, M: int, n: int, m: int) -> 
     stages = {"N": M, "nx": [0] + [n] * M, "nu": [m] * M + [0], "ng": [0] * (M + 1)}
     sqp["qpsol_options"] = stages | dict(sqp["qpsol_options"])
     return True
+
+
+def sqp_hessian(hessian: str, opts: dict, given: dict | None, stage: int, quadratic: bool) -> str | None:
+    """Choose SQP's Hessian (module docstring), in place in ``opts`` (:func:`_split_options`' result): returns
+    :data:`EXACT` or :data:`GAUSS_NEWTON` (None: no SQP solver, or CasADi's ``"limited-memory"`` named in the
+    options). ``hessian``: one of :data:`HESSIANS`; with ``"auto"``, the ``"hessian_approximation"`` the user
+    named in ``given`` (their ``solver_options``), else by size: Gauss-Newton for a quadratic stage cost
+    (``quadratic``) from ``stage`` = n + m = :data:`GAUSS_NEWTON_FROM` variables per stage on. The options keep CasADi's own value (``"exact"``): the
+    Gauss-Newton Hessian is given to the solver as its ``hess_lag`` function by
+    :class:`~orrc.solvers.nlp.ShootingNLP`."""
+    if hessian not in HESSIANS:
+        raise OrrcValueError(f"hessian must be one of {HESSIANS}; got {hessian!r}")
+    sqp = opts.get(SQP)
+    if sqp is None:
+        return None
+    named = sqp.get("hessian_approximation", EXACT)
+    if named not in (EXACT, GAUSS_NEWTON):
+        if hessian == GAUSS_NEWTON:
+            raise OrrcValueError(f"hessian='gauss-newton' contradicts solver_options' "
+                                 f"'sqpmethod.hessian_approximation': {named!r}")
+        return None   # CasADi's own approximation (limited-memory), as the user asked
+    sqp["hessian_approximation"] = EXACT
+    if hessian == "auto":
+        asked = any(k.removeprefix(OPTION_PREFIX[SQP]) == "hessian_approximation" for k in (given or {}))
+        hessian = named if asked else (GAUSS_NEWTON if quadratic and stage >= GAUSS_NEWTON_FROM else EXACT)
+    elif named != hessian and any(k.removeprefix(OPTION_PREFIX[SQP]) == "hessian_approximation" for k in (given or {})):
+        raise OrrcValueError(f"hessian={hessian!r} contradicts solver_options' 'sqpmethod.hessian_approximation': "
+                             f"{named!r}")
+    if hessian == GAUSS_NEWTON and quadratic:
+        sqp.pop("convexify_strategy", None)   # the cost's Hessian: positive semi-definite already
+    return hessian
 
 
 def _nlpsol(solver: str, problem: dict, opts: dict, given: dict | None):
