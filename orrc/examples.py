@@ -368,11 +368,13 @@ def quadrotor(dt: float = 0.05, mass: float = 1.0, inertia=(0.02, 0.02, 0.04), g
     """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
     mass = as_float("mass", mass, minimum=0.0, strict_min=True)
-    inertia = np.asarray(inertia, dtype=float) if np.ndim(inertia) == 1 else None
-    if inertia is None or inertia.shape != (3,) or not np.all(np.isfinite(inertia)) or np.any(inertia <= 0):
-        raise OrrcValueError(f"inertia must be three finite moments of inertia > 0 (J_x, J_y, J_z); got {inertia!r}"
-                             if inertia is not None else "inertia must be three finite moments of inertia > 0 "
-                             "(J_x, J_y, J_z); got a value that is not a sequence of three numbers")
+    try:
+        moments = np.asarray(inertia, dtype=float)
+    except (TypeError, ValueError):
+        moments = None
+    if moments is None or moments.shape != (3,) or not np.all(np.isfinite(moments)) or np.any(moments <= 0):
+        raise OrrcValueError(f"inertia must be three finite moments of inertia > 0 (J_x, J_y, J_z); got {inertia!r}")
+    inertia = moments
     gravity = as_float("gravity", gravity, minimum=0.0)
     thrust_max = as_float("thrust_max", thrust_max, minimum=0.0, strict_min=True)
     if gravity > 0 and thrust_max >= mass * gravity:

@@ -47,9 +47,10 @@ TITLES = {
 
 #: the modules drawn as time per step against a size (log-log, one line per tool, its fitted exponent)
 SCALING = {"scaling", "scaling_lq"}
-_TOOL_LABELS = {"orrc": "orrc", "bare": "bare CasADi loop", "acados": "acados SQP", "acados_rti": "acados RTI",
-                "dompc": "do-mpc", "numpy": "numpy Riccati loop"}
-_TOOL_STYLE = {"orrc": ("#1f6fb4", "o", "-"), "bare": ("#555555", "s", "--"), "acados": ("#d9822b", "^", "-"),
+_TOOL_LABELS = {"orrc": "orrc", "bare": "bare CasADi loop", "bare_own": "bare loop, orrc's Hessian",
+                "acados": "acados SQP", "acados_rti": "acados RTI", "dompc": "do-mpc", "numpy": "numpy Riccati loop"}
+_TOOL_STYLE = {"orrc": ("#1f6fb4", "o", "-"), "bare": ("#555555", "s", "--"), "bare_own": ("#999999", "s", ":"),
+               "acados": ("#d9822b", "^", "-"),
                "acados_rti": ("#d9822b", "v", ":"), "dompc": ("#2e8b57", "D", "-."), "numpy": ("#d9822b", "^", "-")}
 
 
@@ -136,13 +137,19 @@ def figure(module: str, rows: list[dict], width: float = 7.4):
 
 def scaling_series(rows: list[dict]) -> dict:
     """{grid: (size name, {tool: [(size, CPU seconds per step)]}, {tool: growth exponent})} from the rows of
-    ``benchmarks/scaling.py`` or ``benchmarks/scaling_lq.py`` (their ``data``)."""
+    ``benchmarks/scaling.py`` or ``benchmarks/scaling_lq.py`` (their ``data``); a grid of one size (a single
+    point, e.g. the quadrotor's) is left to the table."""
     out: dict = {}
+    sizes: dict = {}
     for r in rows:
         d = r.get("data") or {}
-        if "grid" not in d:
+        if "grid" in d and "size" in d:
+            sizes.setdefault(d["grid"], set()).add(d["size"])
+    for r in rows:
+        d = r.get("data") or {}
+        if "grid" not in d or ("size" in d and len(sizes[d["grid"]]) < 2):
             continue
-        name = "n" if (d["grid"] == "lq" or "n grows" in d["grid"]) else "M"
+        name = d.get("size_name") or ("n" if (d["grid"] == "lq" or "n grows" in d["grid"]) else "M")
         _, series, slopes = out.setdefault(d["grid"], (name, {}, {}))
         if "exponents" in d:
             slopes.update(d["exponents"])
