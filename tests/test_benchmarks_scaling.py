@@ -167,3 +167,20 @@ def test_a_missed_scaling_target_shows_the_bare_loop_at_the_same_point():
     assert "bare CasADi loop on the same NLP at this point: 7.6 ms, 3.80× acados SQP" in page.missed(rows)[2]
     rows[1]["data"] = dict(grid="chain", size=24, tool="bare", skipped="its SQP solve failed")
     assert "the bare CasADi loop at this point: its SQP solve failed" in page.missed(rows)[2]
+
+
+def test_a_missed_scaling_target_shows_the_floor_with_orrcs_hessian_and_why_the_nlp_was_not_compiled():
+    point = dict(grid="quadrotor", size=12)
+    rows = [{"case": "n=12: orrc vs acados SQP", "ratio": "2.00× acados", "target": "< 1× (CPU)", "ok": False,
+             "check": "", "data": dict(point, tool="acados", t_peer=2e-3, compiled=False,
+                                      compile_error="5000000 characters of C code, more than CODE_LIMIT")},
+            {"case": "n=12: orrc vs bare CasADi loop", "ok": None, "peer": "skipped",
+             "data": dict(point, tool="bare", skipped="its SQP solve failed")},
+            {"case": "n=12: orrc vs bare loop, orrc's Hessian", "ok": None, "peer": "3.6 ms",
+             "data": dict(point, tool="bare_own", t_peer=3.6e-3)}]
+    line = page.missed(rows)[2]
+    assert "the bare CasADi loop at this point: its SQP solve failed" in line
+    assert "the bare loop with orrc's Hessian: 3.6 ms, 1.80× acados SQP" in line
+    assert "orrc's NLP interpreted (5000000 characters of C code, more than CODE\\_LIMIT)" in line
+    rows[0]["data"]["compiled"] = True
+    assert "interpreted" not in page.missed(rows)[2]

@@ -221,7 +221,7 @@ def missed(rows: list[dict]) -> list[str]:
     and what the row measured beside it (its correctness check: the solvers each tool's steps took, the
     iterations); nothing when every target was met."""
     out = [f"- {_cell(r['case'])}: {_cell(r['ratio'])} (target {_cell(r['target'])}); {_cell(r.get('check', ''))}"
-           + _floor(r, rows) for r in rows if r.get("ok") is False]
+           + _floor(r, rows) + _compiled(r) for r in rows if r.get("ok") is False]
     return ["Targets missed, by how much, and what was measured beside them:", "", *out, ""] if out else []
 
 
@@ -237,9 +237,24 @@ def _floor(row: dict, rows: list[dict]) -> str:
         return ""
     bare = same[0]["data"]
     if "t_peer" not in bare:
-        return f"; the bare CasADi loop at this point: {_cell(bare.get('skipped', 'not run'))}"
-    return (f"; the bare CasADi loop on the same NLP at this point: {_cell(same[0]['peer'])}, "
-            f"{bare['t_peer'] / d['t_peer']:.2f}× {_cell(row['case'].split(' vs ')[-1])}")
+        text = f"; the bare CasADi loop at this point: {_cell(bare.get('skipped', 'not run'))}"
+    else:
+        text = (f"; the bare CasADi loop on the same NLP at this point: {_cell(same[0]['peer'])}, "
+                f"{bare['t_peer'] / d['t_peer']:.2f}× {_cell(row['case'].split(' vs ')[-1])}")
+    own = [r for r in rows if (r.get("data") or {}).get("grid") == d["grid"] and r["data"].get("size") == d["size"]
+           and r["data"].get("tool") == "bare_own" and "t_peer" in r["data"]]
+    if own:   # orrc took another Hessian than the bare loop's: the floor with orrc's own
+        text += (f"; the bare loop with orrc's Hessian: {_cell(own[0]['peer'])}, "
+                 f"{own[0]['data']['t_peer'] / d['t_peer']:.2f}× {_cell(row['case'].split(' vs ')[-1])}")
+    return text
+
+
+def _compiled(row: dict) -> str:
+    """For a scaling row: whether orrc's NLP ran compiled (``orrc._jit``) or interpreted, and why not compiled."""
+    d = row.get("data") or {}
+    if "grid" not in d or "compiled" not in d or d["compiled"]:
+        return ""
+    return f"; orrc's NLP interpreted ({_cell(str(d.get('compile_error') or 'not compiled'))})"
 
 
 class OrrcBenchmarks(Directive):
