@@ -160,13 +160,47 @@ def structured_qpsol(opts: dict, given: dict | None, M: int, n: int, m: int) -> 
 
 
 def sqp_hessian(hessian: str, opts: dict, given: dict | None, stage: int, quadratic: bool) -> str | None:
-    """Choose SQP's Hessian (module docstring), in place in ``opts`` (:func:`_split_options`' result): returns
-    :data:`EXACT` or :data:`GAUSS_NEWTON` (None: no SQP solver, or CasADi's ``"limited-memory"`` named in the
-    options). ``hessian``: one of :data:`HESSIANS`; with ``"auto"``, the ``"hessian_approximation"`` the user
-    named in ``given`` (their ``solver_options``), else by size: Gauss-Newton for a quadratic stage cost
-    (``quadratic``) from ``stage`` = n + m = :data:`GAUSS_NEWTON_FROM` variables per stage on. The options keep CasADi's own value (``"exact"``): the
-    Gauss-Newton Hessian is given to the solver as its ``hess_lag`` function by
-    :class:`~orrc.solvers.nlp.ShootingNLP`."""
+    """Choose SQP's Hessian for Eq. (3), the M-step problem of Algorithm 1: the exact Hessian of the Lagrangian
+    or the Gauss-Newton one (the objective's alone; module docstring), in place in ``opts``.
+
+    Parameters
+    ----------
+    hessian : str
+        One of :data:`HESSIANS`: ``"auto"`` takes the ``"hessian_approximation"`` the user named in ``given``,
+        else Gauss-Newton for a quadratic stage cost from :data:`GAUSS_NEWTON_FROM` variables per stage on;
+        ``"exact"`` or ``"gauss-newton"`` force it.
+    opts : dict
+        ``{solver: options}`` (:func:`_split_options`' result), changed in place: SQP's options keep CasADi's
+        own value ``"exact"`` (the Gauss-Newton Hessian reaches the solver as its ``hess_lag`` function, built by
+        :class:`~orrc.solvers.nlp.ShootingNLP`), and lose their convexification for a quadratic cost with
+        Gauss-Newton (its Hessian is positive semi-definite already).
+    given : dict or None
+        The user's ``solver_options``.
+    stage : int
+        The variables per stage, n + m.
+    quadratic : bool
+        Whether the stage cost is a :class:`~orrc.QuadraticCost` (and there is no terminal cost).
+
+    Returns
+    -------
+    str or None
+        :data:`EXACT` or :data:`GAUSS_NEWTON`; None without an SQP solver or with CasADi's ``"limited-memory"``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When ``hessian`` is not one of :data:`HESSIANS`, or contradicts the options' named Hessian.
+
+    Examples
+    --------
+    >>> from orrc.solvers.nlp_solvers import sqp_hessian, _split_options
+    >>> opts, _ = _split_options(None, ("sqp",))
+    >>> sqp_hessian("auto", opts, None, stage=25, quadratic=True), "convexify_strategy" in opts["sqp"]
+    ('gauss-newton', False)
+    >>> opts, _ = _split_options(None, ("sqp",))
+    >>> sqp_hessian("auto", opts, None, stage=3, quadratic=True)
+    'exact'
+    """
     if hessian not in HESSIANS:
         raise OrrcValueError(f"hessian must be one of {HESSIANS}; got {hessian!r}")
     sqp = opts.get(SQP)
