@@ -20,6 +20,7 @@ def test_the_qp_solver_is_chosen_by_the_horizon_unless_the_options_name_one():
     assert below.solver_options["sqp"]["qpsol"] == "qrqp" and not below.stage_order
     assert at.solver_options["sqp"]["qpsol"] == "hpipm" and at.stage_order
     assert at.solver_options["sqp"]["qpsol_options"]["N"] == HPIPM_FROM
+    assert at.solver_options["sqp"]["qpsol_options"]["hpipm"] == {"mode": "speed"}   # chosen here: its speed mode
     named = _pendulum(HPIPM_FROM, solver_options=QRQP)[1]._nlp
     assert named.solver_options["sqp"]["qpsol"] == "qrqp" and not named.stage_order
     asked = _pendulum(5, solver_options={"sqpmethod.qpsol": "hpipm"})[1]._nlp   # HPIPM asked for at any size
