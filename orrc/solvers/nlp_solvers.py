@@ -82,8 +82,9 @@ _NEEDS_NLP_GRAD = ("calc_lam_p", "calc_lam_x", "calc_f", "calc_g")
 
 #: the horizon from which SQP's QP solver is HPIPM (a Riccati recursion: work linear in M) instead of qrqp
 #: (a general sparse QP solver), unless ``solver_options`` name one. Measured on orrc's closed loop of the
-#: pendulum (``benchmarks/structure.py``): HPIPM is 1.5x slower at M = 10, 1.1x slower at M = 20, and 1.2x
-#: faster at M = 30, 1.35x at M = 50, 2.3x at M = 100, 4.8x at M = 200, with the same closed loop. Its
+#: pendulum (``benchmarks/structure.py``, HPIPM in its speed mode): HPIPM is 1.05x slower at M = 10, even at
+#: M = 20 (1.05x faster, within a run's noise), and 1.3x faster at M = 30, 2.0x at M = 50, 3.0x at M = 100,
+#: 5.9x at M = 200, with the same closed loop. Its
 #: interior-point multipliers are complementary to about 1e-9: where the optimal cost J is tiny (below about
 #: 0.1), an answer can fail the acceptance check (1e-8 |J|) and the step is solved again by the next rung
 HPIPM_FROM = 30
