@@ -179,6 +179,7 @@ def test_a_missed_scaling_target_shows_the_floor_with_orrcs_hessian_and_why_the_
             {"case": "n=12: orrc vs bare loop, orrc's Hessian", "ok": None, "peer": "3.6 ms",
              "data": dict(point, tool="bare_own", t_peer=3.6e-3)}]
     line = page.missed(rows)[2]
+    assert line.startswith("- quadrotor: n=12: orrc vs acados SQP")   # the grid tells it from the chain's n=12
     assert "the bare CasADi loop at this point: its SQP solve failed" in line
     assert "the bare loop with orrc's Hessian: 3.6 ms, 1.80× acados SQP" in line
     assert "orrc's NLP interpreted (5000000 characters of C code, more than CODE\\_LIMIT)" in line

@@ -220,8 +220,8 @@ def missed(rows: list[dict]) -> list[str]:
     """reStructuredText lines: a bullet per row whose target was missed, with its measured ratio, the target
     and what the row measured beside it (its correctness check: the solvers each tool's steps took, the
     iterations); nothing when every target was met."""
-    out = [f"- {_cell(r['case'])}: {_cell(r['ratio'])} (target {_cell(r['target'])}); {_cell(r.get('check', ''))}"
-           + _floor(r, rows) + _compiled(r) for r in rows if r.get("ok") is False]
+    out = [f"- {_grid(r)}{_cell(r['case'])}: {_cell(r['ratio'])} (target {_cell(r['target'])}); "
+           f"{_cell(r.get('check', ''))}" + _floor(r, rows) + _compiled(r) for r in rows if r.get("ok") is False]
     return ["Targets missed, by how much, and what was measured beside them:", "", *out, ""] if out else []
 
 
@@ -247,6 +247,12 @@ def _floor(row: dict, rows: list[dict]) -> str:
         text += (f"; the bare loop with orrc's Hessian: {_cell(own[0]['peer'])}, "
                  f"{own[0]['data']['t_peer'] / d['t_peer']:.2f}× {_cell(row['case'].split(' vs ')[-1])}")
     return text
+
+
+def _grid(row: dict) -> str:
+    """For a scaling row: its grid ("chain of masses, n grows, M=50: "), which tells apart equal sizes of two grids."""
+    grid = (row.get("data") or {}).get("grid")
+    return f"{_cell(grid)}: " if grid and grid != "lq" else ""
 
 
 def _compiled(row: dict) -> str:
