@@ -51,8 +51,12 @@ solve is accepted only if, in addition,
    inputs rolled out through the dynamics: J ≤ J_g + 1e-8 |J_g| + ‖λ_g‖₁ ‖g‖_∞ (the last term:
    how much lower than the optimum an SQP point that violates the dynamics by ‖g‖_∞ can be).
 
-A solve that fails either check is reported failed (status ``"rejected: ..."``), like one that
-did not converge; the controller's failure ladder then tries its next rung (IPOPT). Both checks are
+An answer of SQP with HPIPM that fails only the first check (HPIPM's interior-point multipliers are
+complementary to its own tolerance, about 1e-10 per bound, which is more than 1e-8 |J| where the optimal cost
+is small) is first *polished*: SQP with the active-set QP solver ``qrqp`` (exactly complementary) is started
+from it, on the same NLP with the same Hessian, and its answer is accepted if it passes both checks; the
+plan's ``extra["polished"]`` says so. A solve that fails either check is reported failed (status
+``"rejected: ..."``), like one that did not converge; the controller's failure ladder then tries its next rung (IPOPT). Both checks are
 one compiled CasADi function of the answer where the solver left it (:mod:`orrc.solvers.acceptance`).
 
 The solver only reports: a failed solve returns a :class:`~orrc.solvers.Plan` with
@@ -76,12 +80,16 @@ from .._casadi import Buffered, DropsBuffers, buffered
 from .._jit import COMPILE_AFTER, COUNTER_CHECKS, Compiled, compiled_function, compiled_nlpsol
 from .._validate import OrrcValueError, check_size
 from .nlp_solvers import (DEFAULT_IPOPT, DEFAULT_SQP, GAUSS_NEWTON, IPOPT, NLP_SOLVERS, OPTION_PREFIX,  # noqa: F401
-                          SOLVER_LABELS, SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _split_options,
-                          sqp_hessian, structured_qpsol)
+                          SOLVER_LABELS, SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _QRQP_QUIET, _last_line, _nlpsol,
+                          _split_options, sqp_hessian, structured_qpsol)
 from ..systems import System
 from ..costs import QuadraticCost, StageCost
 from .acceptance import ACCEPT_ATOL, ACCEPT_RTOL, acceptance_function, rejection  # noqa: F401  (importable here)
 from .plan import Plan, SolverWarning  # noqa: F401  (SolverWarning: importable here, as before)
+
+#: how the acceptance checks' reason for multipliers that are not complementary begins
+#: (:func:`~orrc.solvers.acceptance.rejection`)
+NOT_COMPLEMENTARY = "bound multipliers not complementary"
 
 #: operations per node of the transcribed expression graph (build and IPOPT set-up), measured
 #: on the pendulum: about 1 ms per shooting interval of about 25 nodes
@@ -205,6 +213,7 @@ class ShootingNLP(DropsBuffers):
         #: (:mod:`orrc._jit`) of the SQP solver and the acceptance checks, asked for after
         #: :data:`orrc._jit.COMPILE_AFTER` of them or by :meth:`compile`
         self.sqp_solves, self._jit = 0, {}
+        self._polisher = None   # SQP with qrqp, built on first use (:meth:`_polish`)
         self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
         self._cold_U = np.clip(np.zeros((M, m)), *self.input_bounds)
         self._cold_U.flags.writeable = False
@@ -278,6 +287,7 @@ class ShootingNLP(DropsBuffers):
     def __getstate__(self):
         state = super().__getstate__()
         state["_jit"] = {}   # threads and loaded libraries: made again (from the cache) on demand
+        state["_polisher"] = None
         return state
 
     def _acceptance_inputs(self) -> list:
@@ -368,6 +378,12 @@ class ShootingNLP(DropsBuffers):
         finite = math.isfinite(value) and math.isfinite(zopt.sum())  # (the sum is inf or NaN if an entry is)
         if success and finite and solver == SQP:
             reason = self._rejection(call.res, zopt, value, p, guess_U, extra, in_place=True)
+            if reason and self.stage_order and reason.startswith(NOT_COMPLEMENTARY):
+                polished = self._polish(zopt, p, guess_U, extra)
+                if polished is not None:   # the same KKT point, its multipliers exactly complementary
+                    zopt, value, more = polished
+                    iterations, reason = iterations + more, None
+                    U, X[1:] = zopt[self.iu].reshape(M, m), zopt[self.ix].reshape(M, n)
             if reason:
                 success, status = False, f"rejected: {reason}"
         if not success or not finite:
@@ -380,6 +396,33 @@ class ShootingNLP(DropsBuffers):
                 status = "non-finite result"
         return Plan(inputs=U, states=X, value=value, success=success, status=status, iterations=iterations,
                     solve_time=elapsed, fallback=fallback, solver=solver, extra=extra)
+
+    def _polish(self, z, p, guess_U, extra) -> tuple[np.ndarray, float, int] | None:
+        """SQP with ``qrqp`` (module docstring: "Accepting an SQP answer") from the answer z of SQP with HPIPM that
+        failed only the complementarity check: (its answer, J, its iterations) if that answer is accepted, else
+        None. Its multipliers and the checks' quantities replace those in ``extra``; ``extra["polished"]`` says so.
+        The polishing solver is built on first use (the same NLP and options, the QP solver ``qrqp``)."""
+        if self._polisher is None:
+            opts = dict(self.solver_options[SQP], qpsol="qrqp", qpsol_options=dict(_QRQP_QUIET, error_on_fail=False),
+                        error_on_fail=False)
+            self._polisher = ca.nlpsol("rhc_sqp_polish", _PLUGIN[SQP], self.problem, opts)
+        solver = self._polisher
+        try:
+            out = solver(x0=z, p=p.copy(), lbx=self.lbz, ubx=self.ubz, lbg=0.0, ubg=0.0)
+            stats = solver.stats()
+        except RuntimeError:
+            return None
+        zp, value = np.asarray(out["x"]).ravel(), float(out["f"])
+        if not (stats.get("success") and math.isfinite(value) and np.isfinite(zp).all()):
+            return None
+        res = (zp, None, np.asarray(out["g"]).ravel(), np.asarray(out["lam_x"]).ravel(), np.asarray(out["lam_g"]).ravel())
+        quantities = {}
+        if self._rejection(res, zp, value, p, guess_U, quantities) is not None:
+            return None
+        iterations = int(stats.get("iter_count", 0) or 0)
+        extra.update(quantities, lam_x=res[3], lam_g=res[4],
+                     polished=f"by SQP with qrqp ({iterations} iterations): HPIPM's answer was not complementary")
+        return zp, value, iterations
 
     def write_guess(self, z0, x, guess_U=None, guess_X=None) -> None:
         """Write a solve's guess z0 = [vec U; x̃_1..x̃_M] in place: the inputs ``guess_U`` (M, m; None: the cold

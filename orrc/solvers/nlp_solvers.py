@@ -86,7 +86,8 @@ _NEEDS_NLP_GRAD = ("calc_lam_p", "calc_lam_x", "calc_f", "calc_g")
 #: M = 20 (1.05x faster, within a run's noise), and 1.3x faster at M = 30, 2.0x at M = 50, 3.0x at M = 100,
 #: 5.9x at M = 200, with the same closed loop. Its
 #: interior-point multipliers are complementary to about 1e-9: where the optimal cost J is tiny (below about
-#: 0.1), an answer can fail the acceptance check (1e-8 |J|) and the step is solved again by the next rung
+#: 0.1), an answer can fail the acceptance check (1e-8 |J|); it is then polished by SQP with qrqp
+#: (:mod:`orrc.solvers.nlp`, "Accepting an SQP answer")
 HPIPM_FROM = 30
 #: SQP's Hessians (:func:`sqp_hessian`): of the Lagrangian, or of the objective alone
 EXACT, GAUSS_NEWTON = "exact", "gauss-newton"
@@ -106,10 +107,11 @@ GAUSS_NEWTON_FROM = 16
 #: its tolerances: on the pendulum at M = 100 it gave the default mode's closed loop (the same costs to 1e-15)
 #: 1.3x sooner, and the chain's of 6 and 12 masses at M = 50 (to 1e-11) 1.1x and 1.15x sooner. Where the optimal
 #: cost is small (the chain of one mass near rest, J about 0.004 at M = 50), 2 of 100 answers fail the
-#: complementarity check (Σ λ·gap about 1e-10..1e-9 against 1e-8 |J|) from the warm and the cold start alike, and
-#: IPOPT solves those steps; tightening HPIPM's complementarity tolerance (``res_m_max`` 1e-10 or 1e-12) makes
-#: every answer pass but made that closed loop 2.8x slower, and qrqp (exactly complementary) 1.4x slower, so
-#: neither is the default and the check is kept as it is
+#: complementarity check (Σ λ·gap about 1e-10..1e-9 against 1e-8 |J|) from the warm and the cold start alike.
+#: Tightening HPIPM's complementarity tolerance (``res_m_max`` 1e-10 or 1e-12) makes every answer pass but made
+#: that closed loop 2.8x slower, and qrqp (exactly complementary) for every solve 1.4x slower; so the check is
+#: kept as it is and such an answer is polished instead: one SQP iteration with qrqp from it (about 0.6 ms
+#: there), where IPOPT took those steps before
 _HPIPM = {"error_on_fail": False, "hpipm": {"mode": "speed"}}
 
 
