@@ -80,8 +80,8 @@ from .._casadi import Buffered, DropsBuffers, buffered
 from .._jit import COMPILE_AFTER, COUNTER_CHECKS, Compiled, compiled_function, compiled_nlpsol
 from .._validate import OrrcValueError, check_size
 from .nlp_solvers import (DEFAULT_IPOPT, DEFAULT_SQP, GAUSS_NEWTON, IPOPT, NLP_SOLVERS, OPTION_PREFIX,  # noqa: F401
-                          SOLVER_LABELS, SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _QRQP_QUIET, _last_line, _nlpsol,
-                          _split_options, sqp_hessian, structured_qpsol)
+                          SOLVER_LABELS, SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _qrqp_sqp,
+                          _solve_once, _split_options, _stats, sqp_hessian, structured_qpsol)
 from ..systems import System
 from ..costs import QuadraticCost, StageCost
 from .acceptance import ACCEPT_ATOL, ACCEPT_RTOL, acceptance_function, rejection  # noqa: F401  (importable here)
@@ -105,16 +105,6 @@ def _reordered(acceptance: ca.Function, order, iu) -> ca.Function:
     z_guess = ca.SX.sym("z_guess", zs.numel())
     out, shifted = acceptance(zs[inverse.tolist()], gs, lam_x[inverse.tolist()], lam_g, ps, z_guess[np.asarray(iu).tolist()], J)
     return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, z_guess, J], [out, shifted[order.tolist()]])
-
-
-def _stats(call: Buffered) -> dict:
-    """The solver's statistics of its last solve; where CasADi cannot produce them (``sqpmethod`` stopped by an
-    internal error leaves its status unset, and reading it raises), an unsuccessful solve saying so."""
-    try:
-        return call.stats()
-    except RuntimeError as exc:
-        return {"success": False, "iter_count": 0,
-                "return_status": f"error: the solver stopped without a status ({_last_line(exc)})"}
 
 
 class ShootingNLP(DropsBuffers):
@@ -403,23 +393,15 @@ class ShootingNLP(DropsBuffers):
         None. Its multipliers and the checks' quantities replace those in ``extra``; ``extra["polished"]`` says so.
         The polishing solver is built on first use (the same NLP and options, the QP solver ``qrqp``)."""
         if self._polisher is None:
-            opts = dict(self.solver_options[SQP], qpsol="qrqp", qpsol_options=dict(_QRQP_QUIET, error_on_fail=False),
-                        error_on_fail=False)
-            self._polisher = ca.nlpsol("rhc_sqp_polish", _PLUGIN[SQP], self.problem, opts)
-        solver = self._polisher
-        try:
-            out = solver(x0=z, p=p.copy(), lbx=self.lbz, ubx=self.ubz, lbg=0.0, ubg=0.0)
-            stats = solver.stats()
-        except RuntimeError:
+            self._polisher = _qrqp_sqp(self.problem, self.solver_options[SQP])
+        out = _solve_once(self._polisher, z, p, self.lbz, self.ubz)
+        if out is None:
             return None
-        zp, value = np.asarray(out["x"]).ravel(), float(out["f"])
-        if not (stats.get("success") and math.isfinite(value) and np.isfinite(zp).all()):
-            return None
-        res = (zp, None, np.asarray(out["g"]).ravel(), np.asarray(out["lam_x"]).ravel(), np.asarray(out["lam_g"]).ravel())
+        res, value, iterations = out
+        zp = res[0]
         quantities = {}
         if self._rejection(res, zp, value, p, guess_U, quantities) is not None:
             return None
-        iterations = int(stats.get("iter_count", 0) or 0)
         extra.update(quantities, lam_x=res[3], lam_g=res[4],
                      polished=f"by SQP with qrqp ({iterations} iterations): HPIPM's answer was not complementary")
         return zp, value, iterations

@@ -29,9 +29,11 @@ or by ``solver_options={"sqpmethod.hessian_approximation": "gauss-newton"}`` (or
 """
 from __future__ import annotations
 
+import math
 import re
 
 import casadi as ca
+import numpy as np
 
 from .._validate import OrrcValueError
 
@@ -242,6 +244,38 @@ def _nlpsol(solver: str, problem: dict, opts: dict, given: dict | None):
         raise OrrcValueError(
             f"CasADi rejected the NLP solver {SOLVER_LABELS[solver]} ({_PLUGIN[solver]}) with solver_options "
             f"{sorted(given or {})}: {first}{hint}") from exc
+
+
+def _stats(call) -> dict:
+    """The solver's statistics of its last solve; where CasADi cannot produce them (``sqpmethod`` stopped by an
+    internal error leaves its status unset, and reading it raises), an unsuccessful solve saying so."""
+    try:
+        return call.stats()
+    except RuntimeError as exc:
+        return {"success": False, "iter_count": 0,
+                "return_status": f"error: the solver stopped without a status ({_last_line(exc)})"}
+
+
+def _qrqp_sqp(problem: dict, sqp_options: dict) -> ca.Function:
+    """SQP with the QP solver qrqp on ``problem`` with SQP's other options (the Hessian among them): what polishes an
+    answer of SQP with HPIPM whose multipliers are not complementary enough (:mod:`orrc.solvers.nlp`)."""
+    opts = dict(sqp_options, qpsol="qrqp", qpsol_options=dict(_QRQP_QUIET, error_on_fail=False), error_on_fail=False)
+    return ca.nlpsol("rhc_sqp_polish", _PLUGIN[SQP], problem, opts)
+
+
+def _solve_once(solver: ca.Function, z, p, lbz, ubz):
+    """One solve of ``solver`` from z with parameters p (g = 0): ((z, None, g, λ_x, λ_g), J, iterations), or None
+    where it fails, raises or gives a non-finite answer."""
+    try:
+        out = solver(x0=z, p=p.copy(), lbx=lbz, ubx=ubz, lbg=0.0, ubg=0.0)
+        stats = solver.stats()
+    except RuntimeError:
+        return None
+    zp, value = np.asarray(out["x"]).ravel(), float(out["f"])
+    if not (stats.get("success") and math.isfinite(value) and np.isfinite(zp).all()):
+        return None
+    res = (zp, None, np.asarray(out["g"]).ravel(), np.asarray(out["lam_x"]).ravel(), np.asarray(out["lam_g"]).ravel())
+    return res, value, int(stats.get("iter_count", 0) or 0)
 
 
 def _last_line(exc: Exception) -> str:
