@@ -27,16 +27,17 @@ for _lib in ("libblasfeo.so", "libhpipm.so", "libqpOASES_e.so.3.1", "libacados.s
 
 import casadi as ca  # noqa: E402
 from acados.acados_template import AcadosModel, AcadosOcp, AcadosOcpSolver  # noqa: E402
-from peer_models import dynamics, n_states, plant, weights  # noqa: E402
+from peer_models import dynamics, n_inputs, n_states, plant, weights  # noqa: E402
 from threadpoolctl import threadpool_info  # noqa: E402
 
 
 def build(prob, where):
     """The acados solver of the problem: SQP (or its real-time iteration, ``prob["rti"]``), Gauss-Newton
     Hessian of the least-squares cost, HPIPM with partial condensing."""
-    M, dt, umax, n = prob["M"], prob["dt"], prob["u_max"], n_states(prob)
+    M, dt, n, nu = prob["M"], prob["dt"], n_states(prob), n_inputs(prob)
+    umax = np.broadcast_to(np.asarray(prob["u_max"], float), (nu,))
     q, r = weights(prob)
-    x, u, w = ca.SX.sym("x", n), ca.SX.sym("u", 1), ca.SX.sym("w", n)
+    x, u, w = ca.SX.sym("x", n), ca.SX.sym("u", nu), ca.SX.sym("w", n)
     model = AcadosModel()
     model.name, model.x, model.u, model.p = prob.get("model", "pendulum"), x, u, w
     model.disc_dyn_expr = dynamics(prob, x, u, w)
@@ -45,11 +46,11 @@ def build(prob, where):
     ocp.dims.N = M
     ocp.parameter_values = np.zeros(n)
     ocp.cost.cost_type, ocp.cost.cost_type_e = "LINEAR_LS", "LINEAR_LS"
-    ocp.cost.Vx, ocp.cost.Vu = np.vstack([np.eye(n), np.zeros((1, n))]), np.vstack([np.zeros((n, 1)), [[1.0]]])
-    ocp.cost.W, ocp.cost.yref = 2 * np.diag(np.append(q, r)), np.zeros(n + 1)   # acados: ½‖y‖²_W
+    ocp.cost.Vx, ocp.cost.Vu = np.vstack([np.eye(n), np.zeros((nu, n))]), np.vstack([np.zeros((n, nu)), np.eye(nu)])
+    ocp.cost.W, ocp.cost.yref = 2 * np.diag(np.append(q, r)), np.zeros(n + nu)   # acados: ½‖y‖²_W
     ocp.cost.Vx_e, ocp.cost.W_e, ocp.cost.yref_e = np.eye(n), np.zeros((n, n)), np.zeros(n)  # no terminal cost
     ocp.constraints.x0 = np.array(prob["x0"], float)
-    ocp.constraints.lbu, ocp.constraints.ubu, ocp.constraints.idxbu = np.array([-umax]), np.array([umax]), np.array([0])
+    ocp.constraints.lbu, ocp.constraints.ubu, ocp.constraints.idxbu = -umax, umax.copy(), np.arange(nu)
     opts = ocp.solver_options
     opts.tf, opts.integrator_type = M * dt, "DISCRETE"
     opts.nlp_solver_type = "SQP_RTI" if prob.get("rti") else "SQP"
@@ -62,14 +63,14 @@ def build(prob, where):
 
 
 def closed_loop(solver, prob):
-    T, M, n = prob["T"], prob["M"], n_states(prob)
+    T, M, n, nu = prob["T"], prob["M"], n_states(prob), n_inputs(prob)
     step = plant(prob)
     W = np.array(prob["w"])
     x = np.array(prob["x0"], float)
     for k in range(M + 1):  # a cold start: zero inputs, the state held
         solver.set(k, "x", x)
         if k < M:
-            solver.set(k, "u", np.zeros(1))
+            solver.set(k, "u", np.zeros(nu))
     U = []
     c0, t0 = time.process_time(), time.perf_counter()
     for t in range(T):
@@ -80,9 +81,9 @@ def closed_loop(solver, prob):
         status = solver.solve()
         if status != 0 and not (prob.get("rti") and status == 2):   # RTI: one iteration, "max. iterations" is its end
             raise RuntimeError(f"acados failed at t={t} with status {status}")
-        u = float(solver.get(0, "u")[0])
-        U.append(u)
-        x = step(x, [u], W[t])
+        u = np.array(solver.get(0, "u"), float).reshape(-1)
+        U.append(u.tolist() if nu > 1 else float(u[0]))
+        x = step(x, u, W[t])
     return U, time.process_time() - c0, time.perf_counter() - t0
 
 

@@ -11,24 +11,25 @@ import time
 import casadi as ca
 import do_mpc
 import numpy as np
-from peer_models import dynamics, n_states, plant, weights
+from peer_models import dynamics, n_inputs, n_states, plant, weights
 from threadpoolctl import threadpool_info
 
 
 def build(prob):
-    umax, M, dt, n = prob["u_max"], prob["M"], prob["dt"], n_states(prob)
+    M, dt, n, nu = prob["M"], prob["dt"], n_states(prob), n_inputs(prob)
+    umax = np.broadcast_to(np.asarray(prob["u_max"], float), (nu,)).reshape(-1, 1)
     q, r = weights(prob)
     model = do_mpc.model.Model("discrete")
     x = model.set_variable("_x", "x", shape=(n, 1))
-    u = model.set_variable("_u", "u")
+    u = model.set_variable("_u", "u", shape=(nu, 1))
     w = model.set_variable("_tvp", "w", shape=(n, 1))
-    model.set_rhs("x", dynamics(prob, x, ca.vertcat(u), w))
+    model.set_rhs("x", dynamics(prob, x, u, w))
     model.setup()
     mpc = do_mpc.controller.MPC(model)
     mpc.settings.n_horizon, mpc.settings.t_step = M, dt
     mpc.settings.store_full_solution = False
     mpc.settings.nlpsol_opts = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": 0, "ipopt.tol": 1e-10}
-    mpc.set_objective(mterm=0 * x[0], lterm=ca.dot(ca.DM(q), x ** 2) + r * u ** 2)
+    mpc.set_objective(mterm=0 * x[0], lterm=ca.dot(ca.DM(q), x ** 2) + ca.dot(ca.DM(r), u ** 2))
     mpc.bounds["lower", "_u", "u"], mpc.bounds["upper", "_u", "u"] = -umax, umax
     W = np.array(prob["w"])
     tvp = mpc.get_tvp_template()
@@ -46,16 +47,16 @@ def build(prob):
 
 def closed_loop(prob):
     mpc, W = build(prob)
-    T, step = prob["T"], plant(prob)
+    T, step, nu = prob["T"], plant(prob), n_inputs(prob)
     x = np.array(prob["x0"], float)
     mpc.x0 = x.reshape(-1, 1)
     mpc.set_initial_guess()
     U = []
     c0, t0 = time.process_time(), time.perf_counter()
     for t in range(T):
-        u = float(np.asarray(mpc.make_step(x.reshape(-1, 1))).reshape(-1)[0])
-        U.append(u)
-        x = step(x, [u], W[t])
+        u = np.asarray(mpc.make_step(x.reshape(-1, 1)), float).reshape(-1)
+        U.append(u.tolist() if nu > 1 else float(u[0]))
+        x = step(x, u, W[t])
     return U, time.process_time() - c0, time.perf_counter() - t0
 
 

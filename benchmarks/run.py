@@ -42,7 +42,7 @@ QUICK = {
     "comparison": dict(T=10, M=4),
     "minmax": dict(Ms=(4, 5), reps=1, M_pendulum=5, T=4),
     "widgets": dict(demo=True),
-    "scaling": dict(T=5, Ms=(3, 4), ks=(1, 2), M_chain=3, reps=1, tools=(), compile=False),
+    "scaling": dict(T=5, Ms=(3, 4), ks=(1, 2), M_chain=3, reps=1, tools=(), compile=False, M_quadrotor=3),
     "scaling_lq": dict(ns=(4, 6), M=3, T=10, reps=1),
     "structure": dict(T=4, Ms=(3, 4), reps=1, fatrop=False),
 }

@@ -23,7 +23,8 @@ HORIZONS = (10, 20, 30, 50, 100, 200)
 SAME_RTOL, STATE_ATOL = 1e-8, 1e-7
 QP = {"qrqp": {"sqpmethod.qpsol": "qrqp",
                "sqpmethod.qpsol_options": {"print_iter": False, "print_header": False, "print_info": False}},
-      "hpipm": {"sqpmethod.qpsol": "hpipm"},
+      # HPIPM with the options orrc gives it by itself (its speed mode: orrc.solvers.nlp_solvers)
+      "hpipm": {"sqpmethod.qpsol": "hpipm", "sqpmethod.qpsol_options": {"hpipm": {"mode": "speed"}}},
       "fatrop": {"sqpmethod.qpsol": "fatrop"}}
 
 

@@ -319,5 +319,91 @@ def mass_chain(k: int = 2, dt: float = 0.1, stiffness: float = 1.0, cubic: float
                    (-u_max, u_max), f"chain of {masses}, nonlinear springs (n = {2 * k}), |u| <= {u_max:g}")
 
 
+def quadrotor(dt: float = 0.05, mass: float = 1.0, inertia=(0.02, 0.02, 0.04), gravity: float = 9.81,
+              thrust_max: float = 5.0, torque_max: float = 0.5) -> Example:
+    """A quadrotor about hover (nonlinear, n = 12, m = 4), Euler-sampled with step dt:
+
+        ṗ = v,   v̇ = (g + u_1 / mass) R(η) e_3 − g e_3,   η̇ = E(η) ω,   ω̇ = J⁻¹ (u_{2:4} − ω × J ω),
+
+    plus w_t, with state x = (p, v, η, ω): the position p and velocity v in the world frame, the Euler angles
+    η = (φ, θ, ψ) (roll, pitch, yaw; R(η) = R_z(ψ) R_y(θ) R_x(φ) the body-to-world rotation, E(η) the map of
+    the body rates ω to the angles' rates) and the body rates ω; the inputs are the thrust's deviation from
+    hover u_1 (the total thrust is mass·g + u_1) and the body torques u_{2:4}; J = diag(inertia). The hover
+    x = 0, u = 0 is an equilibrium; linearised there, the model is four chains of integrators (the horizontal
+    accelerations g θ and −g φ, the vertical one u_1 / mass). Cost c = ‖p‖² + 0.1 ‖v‖² + 0.1 ‖η‖² +
+    0.01 ‖ω‖² + 0.1 u_1² + u_{2:4}ᵀ u_{2:4}, input bounds |u_1| <= thrust_max, |u_{2:4}| <= torque_max,
+    start p = (0.5, −0.5, 0.3), at rest and level.
+
+    Parameters
+    ----------
+    dt : the sampling period, > 0.
+    mass : the mass, > 0.
+    inertia : the principal moments of inertia (J_x, J_y, J_z), each > 0.
+    gravity : g, >= 0.
+    thrust_max : the bound on the thrust's deviation from hover, > 0 and below mass·g (the thrust stays positive).
+    torque_max : the bound on each torque, > 0.
+
+    Returns
+    -------
+    Example
+        ``system``, ``cost``, ``x0``, ``M``, ``input_bounds`` and a ``description``.
+
+    Raises
+    ------
+    orrc.OrrcValueError
+        When a parameter is out of its range (the message names it).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import orrc
+    >>> ex = orrc.examples.quadrotor()
+    >>> ex.system
+    NonlinearSystem(n=12, m=4, name='quadrotor')
+    >>> bool(np.allclose(ex.system.step(np.zeros(12), np.zeros(4), np.zeros(12)), 0))   # hover
+    True
+    >>> A, B = ex.system.linearize()
+    >>> print(f"{A[3, 7]:.4f} {A[4, 6]:.4f}")    # the pitch and roll tilt the thrust: g dt, −g dt
+    0.4905 -0.4905
+    """
+    dt = as_float("dt", dt, minimum=0.0, strict_min=True)
+    mass = as_float("mass", mass, minimum=0.0, strict_min=True)
+    try:
+        moments = np.asarray(inertia, dtype=float)
+    except (TypeError, ValueError):
+        moments = None
+    if moments is None or moments.shape != (3,) or not np.all(np.isfinite(moments)) or np.any(moments <= 0):
+        raise OrrcValueError(f"inertia must be three finite moments of inertia > 0 (J_x, J_y, J_z); got {inertia!r}")
+    inertia = moments
+    gravity = as_float("gravity", gravity, minimum=0.0)
+    thrust_max = as_float("thrust_max", thrust_max, minimum=0.0, strict_min=True)
+    if gravity > 0 and thrust_max >= mass * gravity:
+        raise OrrcValueError(f"thrust_max must be below mass·gravity = {mass * gravity:g} (the thrust stays "
+                             f"positive); got {thrust_max:g}")
+    torque_max = as_float("torque_max", torque_max, minimum=0.0, strict_min=True)
+    Jx, Jy, Jz = (float(j) for j in inertia)
+
+    def f(x, u, w):
+        v, eta, om = x[3:6], x[6:9], x[9:12]
+        phi, theta, psi = eta[0], eta[1], eta[2]
+        cf, sf, ct, st, cp, sp = ca.cos(phi), ca.sin(phi), ca.cos(theta), ca.sin(theta), ca.cos(psi), ca.sin(psi)
+        thrust_axis = ca.vertcat(cf * st * cp + sf * sp, cf * st * sp - sf * cp, cf * ct)   # R(η) e_3
+        acc = (gravity + u[0] / mass) * thrust_axis - ca.vertcat(0, 0, gravity)
+        eta_dot = ca.vertcat(om[0] + (sf * om[1] + cf * om[2]) * st / ct, cf * om[1] - sf * om[2],
+                             (sf * om[1] + cf * om[2]) / ct)
+        om_dot = ca.vertcat((u[1] - (Jz - Jy) * om[1] * om[2]) / Jx, (u[2] - (Jx - Jz) * om[2] * om[0]) / Jy,
+                            (u[3] - (Jy - Jx) * om[0] * om[1]) / Jz)
+        return x + dt * ca.vertcat(v, acc, eta_dot, om_dot) + w
+
+    Q = np.diag([1.0] * 3 + [0.1] * 3 + [0.1] * 3 + [0.01] * 3)
+    R = np.diag([0.1, 1.0, 1.0, 1.0])
+    bound = np.array([thrust_max] + [torque_max] * 3)
+    x0 = np.zeros(12)
+    x0[:3] = [0.5, -0.5, 0.3]
+    return Example("quadrotor", NonlinearSystem(f, 12, 4, name="quadrotor"), QuadraticCost(Q, R), x0, 20,
+                   (-bound, bound), f"quadrotor about hover (n = 12, m = 4), |thrust| <= {thrust_max:g}, "
+                   f"|torques| <= {torque_max:g}")
+
+
 ALL = {f.__name__: f for f in (scalar_unstable, double_integrator, two_mass_spring,
                                inverted_pendulum, van_der_pol, mass_chain)}

@@ -146,3 +146,52 @@ def test_an_sqp_solve_that_stops_without_a_status_is_a_failed_solve_and_ipopt_ta
     assert plan.success and np.isfinite(plan.value)
     ip = rhc._nlp.solve(ex.x0, W, P, solver="ipopt")
     assert plan.value == pytest.approx(ip.value, rel=1e-6)
+
+
+def test_the_quadrotor_hovers_at_the_origin_with_zero_input():
+    ex = exs.quadrotor()
+    assert ex.system.n == 12 and ex.system.m == 4
+    assert np.array_equal(ex.system.step(np.zeros(12), np.zeros(4), np.zeros(12)), np.zeros(12))
+    # displaced, at rest and level, it stays where it is: the hover holds at any position
+    x = np.zeros(12)
+    x[:3] = [1.0, -2.0, 0.5]
+    assert np.allclose(ex.system.step(x, np.zeros(4), np.zeros(12)), x, rtol=0, atol=1e-15)
+    # more thrust lifts it; a level quadrotor does not drift sideways
+    up = ex.system.step(np.zeros(12), [1.0, 0, 0, 0], np.zeros(12))
+    assert up[5] == pytest.approx(0.05 * 1.0) and np.all(up[[3, 4]] == 0)
+
+
+def test_the_quadrotor_linearised_at_hover_is_four_chains_of_integrators():
+    dt, g, mass, J = 0.04, 9.0, 2.0, np.array([0.03, 0.05, 0.07])
+    ex = exs.quadrotor(dt=dt, mass=mass, inertia=J, gravity=g)
+    A, B = ex.system.linearize()
+    Ac, Bc = np.zeros((12, 12)), np.zeros((12, 4))
+    Ac[0:3, 3:6] = np.eye(3)             # ṗ = v
+    Ac[3, 7], Ac[4, 6] = g, -g           # pitch tilts the thrust toward +x, roll toward -y
+    Ac[6:9, 9:12] = np.eye(3)            # η̇ = ω at level attitude
+    Bc[5, 0] = 1 / mass                  # the thrust's deviation lifts
+    Bc[9:12, 1:4] = np.diag(1 / J)       # the torques turn
+    assert np.allclose(A, np.eye(12) + dt * Ac, rtol=0, atol=1e-14)
+    assert np.allclose(B, dt * Bc, rtol=0, atol=1e-14)
+    # tilted and turning, the Jacobian is another: the model is nonlinear
+    x = np.zeros(12)
+    x[6:12] = [0.3, -0.2, 0.5, 1.0, -0.5, 0.2]
+    A1, B1 = ex.system.linearize(x=x, u=np.array([1.0, 0, 0, 0]))
+    assert np.abs(A1 - A).max() > 1e-2 and np.abs(B1 - B).max() > 1e-3
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(dt=0.0), "dt must be > 0"),
+    (dict(mass=-1.0), "mass must be > 0"),
+    (dict(inertia=(0.1, 0.0, 0.1)), r"inertia must be three finite moments of inertia > 0 .* got \(0.1, 0.0, 0.1\)"),
+    (dict(inertia=("a", "b", "c")), "inertia must be three finite moments"),
+    (dict(inertia=0.1), "inertia must be three finite moments of inertia > 0"),
+    (dict(inertia=(0.1, 0.1)), "inertia must be three"),
+    (dict(gravity=float("nan")), "gravity must be finite"),
+    (dict(thrust_max=0.0), "thrust_max must be > 0"),
+    (dict(thrust_max=20.0), r"thrust_max must be below mass·gravity = 9.81 .*got 20"),
+    (dict(torque_max=-0.1), "torque_max must be > 0"),
+])
+def test_the_quadrotor_refuses_bad_input_naming_the_argument(kwargs, match):
+    with pytest.raises(orrc.OrrcValueError, match=match):
+        exs.quadrotor(**kwargs)

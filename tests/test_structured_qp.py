@@ -20,6 +20,7 @@ def test_the_qp_solver_is_chosen_by_the_horizon_unless_the_options_name_one():
     assert below.solver_options["sqp"]["qpsol"] == "qrqp" and not below.stage_order
     assert at.solver_options["sqp"]["qpsol"] == "hpipm" and at.stage_order
     assert at.solver_options["sqp"]["qpsol_options"]["N"] == HPIPM_FROM
+    assert at.solver_options["sqp"]["qpsol_options"]["hpipm"] == {"mode": "speed"}   # chosen here: its speed mode
     named = _pendulum(HPIPM_FROM, solver_options=QRQP)[1]._nlp
     assert named.solver_options["sqp"]["qpsol"] == "qrqp" and not named.stage_order
     asked = _pendulum(5, solver_options={"sqpmethod.qpsol": "hpipm"})[1]._nlp   # HPIPM asked for at any size
@@ -82,3 +83,24 @@ def test_the_compiled_solver_in_stage_order_gives_the_interpreted_closed_loop():
     a, b = orrc.simulate(ex.system, rhc, ex.x0, w, T), orrc.simulate(ex.system, interp, ex.x0, w, T)
     assert interp._nlp.compiled("sqp") is None, "the reference stays interpreted"
     assert a.solver_counts == {"sqp": T} and np.array_equal(a.x, b.x) and np.array_equal(a.u, b.u)
+
+
+def test_an_hpipm_answer_not_complementary_is_polished_by_qrqp_and_kept_to_the_check():
+    from orrc.solvers.acceptance import ACCEPT_ATOL, ACCEPT_RTOL
+    from orrc.solvers.nlp import ShootingNLP
+
+    ex = orrc.examples.mass_chain(k=1)
+    M = HPIPM_FROM
+    P = np.broadcast_to(ex.cost.default_params, (M, ex.cost.n_params))
+    nlp = ShootingNLP(ex.system, ex.cost, M, ex.input_bounds)
+    ref = ShootingNLP(ex.system, ex.cost, M, ex.input_bounds, solvers=("ipopt",))
+    x = np.array([0.1, 0.0])   # near rest: a small optimal cost, below HPIPM's complementarity over 1e-8
+    plan = nlp.solve(x, np.zeros((M, 2)), P)
+    assert plan.success and plan.solver == "sqp" and "qrqp" in plan.extra["polished"]
+    # the check is the same: the polished multipliers pass it
+    assert plan.extra["complementarity"] <= ACCEPT_RTOL * abs(plan.value) + ACCEPT_ATOL
+    assert plan.value == pytest.approx(ref.solve(x, np.zeros((M, 2)), P).value, rel=1e-7)
+    xs = x
+    for j in range(M):   # the polished answer is a plan: its states are the rollout of its inputs
+        xs = ex.system.step(xs, plan.inputs[j], np.zeros(2))
+        assert np.allclose(plan.states[j + 1], xs, rtol=0, atol=1e-8)

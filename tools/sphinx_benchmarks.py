@@ -47,9 +47,10 @@ TITLES = {
 
 #: the modules drawn as time per step against a size (log-log, one line per tool, its fitted exponent)
 SCALING = {"scaling", "scaling_lq"}
-_TOOL_LABELS = {"orrc": "orrc", "bare": "bare CasADi loop", "acados": "acados SQP", "acados_rti": "acados RTI",
-                "dompc": "do-mpc", "numpy": "numpy Riccati loop"}
-_TOOL_STYLE = {"orrc": ("#1f6fb4", "o", "-"), "bare": ("#555555", "s", "--"), "acados": ("#d9822b", "^", "-"),
+_TOOL_LABELS = {"orrc": "orrc", "bare": "bare CasADi loop", "bare_own": "bare loop, orrc's Hessian",
+                "acados": "acados SQP", "acados_rti": "acados RTI", "dompc": "do-mpc", "numpy": "numpy Riccati loop"}
+_TOOL_STYLE = {"orrc": ("#1f6fb4", "o", "-"), "bare": ("#555555", "s", "--"), "bare_own": ("#999999", "s", ":"),
+               "acados": ("#d9822b", "^", "-"),
                "acados_rti": ("#d9822b", "v", ":"), "dompc": ("#2e8b57", "D", "-."), "numpy": ("#d9822b", "^", "-")}
 
 
@@ -136,13 +137,19 @@ def figure(module: str, rows: list[dict], width: float = 7.4):
 
 def scaling_series(rows: list[dict]) -> dict:
     """{grid: (size name, {tool: [(size, CPU seconds per step)]}, {tool: growth exponent})} from the rows of
-    ``benchmarks/scaling.py`` or ``benchmarks/scaling_lq.py`` (their ``data``)."""
+    ``benchmarks/scaling.py`` or ``benchmarks/scaling_lq.py`` (their ``data``); a grid of one size (a single
+    point, e.g. the quadrotor's) is left to the table."""
     out: dict = {}
+    sizes: dict = {}
     for r in rows:
         d = r.get("data") or {}
-        if "grid" not in d:
+        if "grid" in d and "size" in d:
+            sizes.setdefault(d["grid"], set()).add(d["size"])
+    for r in rows:
+        d = r.get("data") or {}
+        if "grid" not in d or ("size" in d and len(sizes[d["grid"]]) < 2):
             continue
-        name = "n" if (d["grid"] == "lq" or "n grows" in d["grid"]) else "M"
+        name = d.get("size_name") or ("n" if (d["grid"] == "lq" or "n grows" in d["grid"]) else "M")
         _, series, slopes = out.setdefault(d["grid"], (name, {}, {}))
         if "exponents" in d:
             slopes.update(d["exponents"])
@@ -213,8 +220,8 @@ def missed(rows: list[dict]) -> list[str]:
     """reStructuredText lines: a bullet per row whose target was missed, with its measured ratio, the target
     and what the row measured beside it (its correctness check: the solvers each tool's steps took, the
     iterations); nothing when every target was met."""
-    out = [f"- {_cell(r['case'])}: {_cell(r['ratio'])} (target {_cell(r['target'])}); {_cell(r.get('check', ''))}"
-           + _floor(r, rows) for r in rows if r.get("ok") is False]
+    out = [f"- {_grid(r)}{_cell(r['case'])}: {_cell(r['ratio'])} (target {_cell(r['target'])}); "
+           f"{_cell(r.get('check', ''))}" + _floor(r, rows) + _compiled(r) for r in rows if r.get("ok") is False]
     return ["Targets missed, by how much, and what was measured beside them:", "", *out, ""] if out else []
 
 
@@ -230,9 +237,30 @@ def _floor(row: dict, rows: list[dict]) -> str:
         return ""
     bare = same[0]["data"]
     if "t_peer" not in bare:
-        return f"; the bare CasADi loop at this point: {_cell(bare.get('skipped', 'not run'))}"
-    return (f"; the bare CasADi loop on the same NLP at this point: {_cell(same[0]['peer'])}, "
-            f"{bare['t_peer'] / d['t_peer']:.2f}× {_cell(row['case'].split(' vs ')[-1])}")
+        text = f"; the bare CasADi loop at this point: {_cell(bare.get('skipped', 'not run'))}"
+    else:
+        text = (f"; the bare CasADi loop on the same NLP at this point: {_cell(same[0]['peer'])}, "
+                f"{bare['t_peer'] / d['t_peer']:.2f}× {_cell(row['case'].split(' vs ')[-1])}")
+    own = [r for r in rows if (r.get("data") or {}).get("grid") == d["grid"] and r["data"].get("size") == d["size"]
+           and r["data"].get("tool") == "bare_own" and "t_peer" in r["data"]]
+    if own:   # orrc took another Hessian than the bare loop's: the floor with orrc's own
+        text += (f"; the bare loop with orrc's Hessian: {_cell(own[0]['peer'])}, "
+                 f"{own[0]['data']['t_peer'] / d['t_peer']:.2f}× {_cell(row['case'].split(' vs ')[-1])}")
+    return text
+
+
+def _grid(row: dict) -> str:
+    """For a scaling row: its grid ("chain of masses, n grows, M=50: "), which tells apart equal sizes of two grids."""
+    grid = (row.get("data") or {}).get("grid")
+    return f"{_cell(grid)}: " if grid and grid != "lq" else ""
+
+
+def _compiled(row: dict) -> str:
+    """For a scaling row: whether orrc's NLP ran compiled (``orrc._jit``) or interpreted, and why not compiled."""
+    d = row.get("data") or {}
+    if "grid" not in d or "compiled" not in d or d["compiled"]:
+        return ""
+    return f"; orrc's NLP interpreted ({_cell(str(d.get('compile_error') or 'not compiled'))})"
 
 
 class OrrcBenchmarks(Directive):

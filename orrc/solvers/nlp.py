@@ -21,6 +21,19 @@ f(·; θ̂), and a new estimate θ̂ is a new parameter value, not a new solver.
   :data:`~orrc.solvers.nlp_solvers.HPIPM_FROM` on, the QP solver is HPIPM instead, a Riccati recursion whose
   work grows linearly with M (the variables are then in stage order, ũ_0, x̃_1, ũ_1, ...; the checks below
   read them in either order).
+  **The Hessian** (``hessian``, :func:`~orrc.solvers.nlp_solvers.sqp_hessian`): the exact Hessian of the
+  Lagrangian above, or the Gauss-Newton Hessian, the objective's alone (the dynamics' curvature dropped, as
+  acados does for a least-squares cost): for a :class:`~orrc.QuadraticCost` it is the stage cost's own
+  Hessian, positive semi-definite and free to evaluate, not convexified. Both stop at the same KKT point
+  (SQP's stopping test reads the gradient of the Lagrangian and the constraint violation, not the Hessian),
+  and both answers pass the same acceptance checks below; the Gauss-Newton steps avoid the second derivatives
+  of the dynamics through the horizon and their convexification, at the price of linear convergence.
+  ``hessian="auto"`` takes Gauss-Newton for a quadratic stage cost from
+  :data:`~orrc.solvers.nlp_solvers.GAUSS_NEWTON_FROM` variables per stage (n + m) on, where the exact Hessian's
+  eigenvalue convexification was measured to give non-finite steps (the quadrotor, the chain of 12 masses),
+  the exact Hessian otherwise; ``hessian="exact"`` or ``"gauss-newton"`` (or
+  ``solver_options={"sqpmethod.hessian_approximation": ...}``, which :class:`~orrc.PreviewRHC` passes on)
+  forces it.
 * ``"ipopt"`` -- the interior-point solver IPOPT (tolerance 1e-9): slower per call, but it
   globalises with a filter line search and a restoration phase. Used as the fallback when SQP
   fails, and alone with ``PreviewRHC(..., solver="ipopt")``.
@@ -38,8 +51,12 @@ solve is accepted only if, in addition,
    inputs rolled out through the dynamics: J ≤ J_g + 1e-8 |J_g| + ‖λ_g‖₁ ‖g‖_∞ (the last term:
    how much lower than the optimum an SQP point that violates the dynamics by ‖g‖_∞ can be).
 
-A solve that fails either check is reported failed (status ``"rejected: ..."``), like one that
-did not converge; the controller's failure ladder then tries its next rung (IPOPT). Both checks are
+An answer of SQP with HPIPM that fails only the first check (HPIPM's interior-point multipliers are
+complementary to its own tolerance, about 1e-10 per bound, which is more than 1e-8 |J| where the optimal cost
+is small) is first *polished*: SQP with the active-set QP solver ``qrqp`` (exactly complementary) is started
+from it, on the same NLP with the same Hessian, and its answer is accepted if it passes both checks; the
+plan's ``extra["polished"]`` says so. A solve that fails either check is reported failed (status
+``"rejected: ..."``), like one that did not converge; the controller's failure ladder then tries its next rung (IPOPT). Both checks are
 one compiled CasADi function of the answer where the solver left it (:mod:`orrc.solvers.acceptance`).
 
 The solver only reports: a failed solve returns a :class:`~orrc.solvers.Plan` with
@@ -62,13 +79,17 @@ import numpy as np
 from .._casadi import Buffered, DropsBuffers, buffered
 from .._jit import COMPILE_AFTER, COUNTER_CHECKS, Compiled, compiled_function, compiled_nlpsol
 from .._validate import OrrcValueError, check_size
-from .nlp_solvers import (DEFAULT_IPOPT, DEFAULT_SQP, IPOPT, NLP_SOLVERS, OPTION_PREFIX, SOLVER_LABELS,  # noqa: F401
-                          SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _split_options,
-                          structured_qpsol)
+from .nlp_solvers import (DEFAULT_IPOPT, DEFAULT_SQP, GAUSS_NEWTON, IPOPT, NLP_SOLVERS, OPTION_PREFIX,  # noqa: F401
+                          SOLVER_LABELS, SQP, SQP_SOLVED, UNSUCCESSFUL, _PLUGIN, _last_line, _nlpsol, _qrqp_sqp,
+                          _solve_once, _split_options, _stats, sqp_hessian, structured_qpsol)
 from ..systems import System
-from ..costs import StageCost
+from ..costs import QuadraticCost, StageCost
 from .acceptance import ACCEPT_ATOL, ACCEPT_RTOL, acceptance_function, rejection  # noqa: F401  (importable here)
 from .plan import Plan, SolverWarning  # noqa: F401  (SolverWarning: importable here, as before)
+
+#: how the acceptance checks' reason for multipliers that are not complementary begins
+#: (:func:`~orrc.solvers.acceptance.rejection`)
+NOT_COMPLEMENTARY = "bound multipliers not complementary"
 
 #: operations per node of the transcribed expression graph (build and IPOPT set-up), measured
 #: on the pendulum: about 1 ms per shooting interval of about 25 nodes
@@ -86,16 +107,6 @@ def _reordered(acceptance: ca.Function, order, iu) -> ca.Function:
     return ca.Function("acceptance", [zs, gs, lam_x, lam_g, ps, z_guess, J], [out, shifted[order.tolist()]])
 
 
-def _stats(call: Buffered) -> dict:
-    """The solver's statistics of its last solve; where CasADi cannot produce them (``sqpmethod`` stopped by an
-    internal error leaves its status unset, and reading it raises), an unsuccessful solve saying so."""
-    try:
-        return call.stats()
-    except RuntimeError as exc:
-        return {"success": False, "iter_count": 0,
-                "return_status": f"error: the solver stopped without a status ({_last_line(exc)})"}
-
-
 class ShootingNLP(DropsBuffers):
     """Multiple-shooting transcription of the M-step problem, built once, with its solvers.
 
@@ -103,10 +114,12 @@ class ShootingNLP(DropsBuffers):
     ``terminal``: a callable ``terminal(x)`` in CasADi operations, or None.
     ``solvers``: the CasADi solvers to build, in the order a controller tries them
     (:data:`NLP_SOLVERS`: SQP, then IPOPT). ``solver_options``: see the module docstring.
+    ``hessian``: SQP's Hessian, ``"auto"`` (by the cost and the state dimension), ``"exact"`` or
+    ``"gauss-newton"`` (module docstring); the one chosen is :attr:`hessian`.
     """
 
     def __init__(self, system: System, cost: StageCost, M: int, input_bounds=None,
-                 state_bounds=None, terminal=None, solvers=NLP_SOLVERS, solver_options=None):
+                 state_bounds=None, terminal=None, solvers=NLP_SOLVERS, solver_options=None, hessian="auto"):
         n, m, npar = system.n, system.m, cost.n_params
         self.M, self.n, self.m = M, n, m
         self.n_theta = int(getattr(system, "n_params", 0) or 0)   # model parameters θ (ParametricSystem)
@@ -150,6 +163,9 @@ class ShootingNLP(DropsBuffers):
         #: the variables in stage order (ũ_0, x̃_1, ũ_1, x̃_2, ...), where SQP's QP solver needs it (HPIPM,
         #: :func:`~orrc.solvers.nlp_solvers.structured_qpsol`); else z = [vec U; x̃_1..x̃_M]
         self.stage_order = structured_qpsol(opts, solver_options, M, n, m)
+        #: SQP's Hessian: "exact" or "gauss-newton" (None: no SQP solver, or CasADi's limited-memory one)
+        self.hessian = sqp_hessian(hessian, opts, solver_options, n + m,
+                                   isinstance(cost, QuadraticCost) and terminal is None)
         nu = M * m
         z = ca.vertcat(ca.vec(U), ca.vec(X))   # the variables in the order the checks and the shift are written in
         if self.stage_order:
@@ -162,6 +178,10 @@ class ShootingNLP(DropsBuffers):
             self.order, self.iu, self.ix, zs = None, slice(0, nu), slice(nu, None), z
         p = ca.vertcat(x0, ca.vec(W), ca.vec(Pp), theta)
         problem = {"x": zs, "f": J, "g": ca.vertcat(*g), "p": p}
+        if self.hessian == GAUSS_NEWTON:   # the objective's Hessian as SQP's Hessian of the Lagrangian
+            lam_f, lam_g = ca.SX.sym("lam_f"), ca.SX.sym("lam_g", M * n)
+            opts[SQP]["hess_lag"] = ca.Function("nlp_hess_l", [zs, p, lam_f, lam_g], [lam_f * ca.hessian(J, zs)[0]],
+                                                ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])
         self.problem = problem  # the transcription: z (above), p = [x; vec W; vec P; θ], g = 0
         self._nlpsol = {s: _nlpsol(s, problem, opts[s], solver_options) for s in self.solvers}
         self.solver_options = opts
@@ -183,6 +203,7 @@ class ShootingNLP(DropsBuffers):
         #: (:mod:`orrc._jit`) of the SQP solver and the acceptance checks, asked for after
         #: :data:`orrc._jit.COMPILE_AFTER` of them or by :meth:`compile`
         self.sqp_solves, self._jit = 0, {}
+        self._polisher = None   # SQP with qrqp, built on first use (:meth:`_polish`)
         self.input_bounds = (np.asarray(ulo, float), np.asarray(uhi, float))
         self._cold_U = np.clip(np.zeros((M, m)), *self.input_bounds)
         self._cold_U.flags.writeable = False
@@ -217,7 +238,9 @@ class ShootingNLP(DropsBuffers):
             if key not in self._jit:
                 try:
                     self._jit[key] = (compiled_function(self._acceptance) if name == "acceptance" else
-                                      compiled_nlpsol(self._nlpsol[SQP], _PLUGIN[SQP], self.solver_options[SQP]))
+                                      compiled_nlpsol(self._nlpsol[SQP], _PLUGIN[SQP],   # (the library holds hess_lag)
+                                                      {k: v for k, v in self.solver_options[SQP].items()
+                                                       if k != "hess_lag"}))
                 except RuntimeError as exc:   # no C code for it (e.g. a user's callback among the options)
                     self._jit[key] = Compiled(name, None, None, error=f"no C code for it: {_last_line(exc)}")
         if wait:
@@ -254,6 +277,7 @@ class ShootingNLP(DropsBuffers):
     def __getstate__(self):
         state = super().__getstate__()
         state["_jit"] = {}   # threads and loaded libraries: made again (from the cache) on demand
+        state["_polisher"] = None
         return state
 
     def _acceptance_inputs(self) -> list:
@@ -344,6 +368,12 @@ class ShootingNLP(DropsBuffers):
         finite = math.isfinite(value) and math.isfinite(zopt.sum())  # (the sum is inf or NaN if an entry is)
         if success and finite and solver == SQP:
             reason = self._rejection(call.res, zopt, value, p, guess_U, extra, in_place=True)
+            if reason and self.stage_order and reason.startswith(NOT_COMPLEMENTARY):
+                polished = self._polish(zopt, p, guess_U, extra)
+                if polished is not None:   # the same KKT point, its multipliers exactly complementary
+                    zopt, value, more = polished
+                    iterations, reason = iterations + more, None
+                    U, X[1:] = zopt[self.iu].reshape(M, m), zopt[self.ix].reshape(M, n)
             if reason:
                 success, status = False, f"rejected: {reason}"
         if not success or not finite:
@@ -356,6 +386,25 @@ class ShootingNLP(DropsBuffers):
                 status = "non-finite result"
         return Plan(inputs=U, states=X, value=value, success=success, status=status, iterations=iterations,
                     solve_time=elapsed, fallback=fallback, solver=solver, extra=extra)
+
+    def _polish(self, z, p, guess_U, extra) -> tuple[np.ndarray, float, int] | None:
+        """SQP with ``qrqp`` (module docstring: "Accepting an SQP answer") from the answer z of SQP with HPIPM that
+        failed only the complementarity check: (its answer, J, its iterations) if that answer is accepted, else
+        None. Its multipliers and the checks' quantities replace those in ``extra``; ``extra["polished"]`` says so.
+        The polishing solver is built on first use (the same NLP and options, the QP solver ``qrqp``)."""
+        if self._polisher is None:
+            self._polisher = _qrqp_sqp(self.problem, self.solver_options[SQP])
+        out = _solve_once(self._polisher, z, p, self.lbz, self.ubz)
+        if out is None:
+            return None
+        res, value, iterations = out
+        zp = res[0]
+        quantities = {}
+        if self._rejection(res, zp, value, p, guess_U, quantities) is not None:
+            return None
+        extra.update(quantities, lam_x=res[3], lam_g=res[4],
+                     polished=f"by SQP with qrqp ({iterations} iterations): HPIPM's answer was not complementary")
+        return zp, value, iterations
 
     def write_guess(self, z0, x, guess_U=None, guess_X=None) -> None:
         """Write a solve's guess z0 = [vec U; x̃_1..x̃_M] in place: the inputs ``guess_U`` (M, m; None: the cold
