@@ -159,7 +159,7 @@ def running_cost(trajs: dict, title: str | None = None, fast: bool = False) -> F
     Returns
     -------
     Figure
-        One panel, the legend in its upper left corner.
+        One panel, the legend under it.
 
     Examples
     --------
@@ -185,7 +185,8 @@ def running_cost(trajs: dict, title: str | None = None, fast: bool = False) -> F
                 linestyle="--" if "clairvoyant" in label.lower() else "-")
     ax.set_xlabel("$t$")
     ax.set_ylabel(r"$\sum_{s \leq t} c_s$")
-    ax.legend(fontsize=9, loc="upper left")
+    # under the axes: inside, it covers the curves that rise fastest (a phone's narrow figure most)
+    legend_below(ax, fontsize=9, ncol=min(len(trajs), 3))
     if title:
         ax.set_title(title, fontsize=10)
     return fig
