@@ -99,9 +99,10 @@ def test_running_cost_keeps_its_legend_off_the_curves(scalar):
     ax = fig.axes[0]
     box, legend = _boxes(fig, ax, ax.get_legend())
     assert legend.y1 < box.y0, "the legend overlaps the axes, where it can cover a curve"
+    assert legend.y0 >= fig.bbox.y0 - 1, "the legend runs past the figure's bottom edge"
     with narrowed(fig):   # and in the phone's rendering too
         box, legend = _boxes(fig, ax, ax.get_legend())
-        assert legend.y1 < box.y0 and legend.x1 <= fig.bbox.x1 + 1
+        assert legend.y1 < box.y0 and legend.y0 >= fig.bbox.y0 - 1 and legend.x1 <= fig.bbox.x1 + 1
 
 
 def test_metric_bars_label_stays_inside_a_phones_figure(scalar):
