@@ -124,3 +124,32 @@ def test_bad_input_is_a_clear_error(call, words):
     with pytest.raises(orrc.OrrcValueError) as info:
         call()
     assert words in str(info.value)
+
+
+def test_lipschitz_quotients_legend_clears_the_line():
+    """Each panel's legend (upper left) sits above its line α‖θ̂ − θ‖ in the wide and the phone's
+    rendering: no point of the line falls inside the legend's box."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from orrc.viz.figures import narrowed
+
+    rng = np.random.default_rng(0)
+    d = np.geomspace(0.011, 0.27, 120) * rng.uniform(0.5, 1.0, 120)
+    fig = up.lipschitz_quotients(d, d * rng.uniform(0.001, 0.3, 120), d * rng.uniform(0.005, 0.5, 120),
+                                 alpha_V=1.38, alpha_kappa=2.3, title="Lemma 3")
+
+    def legends_clear():
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        r = canvas.get_renderer()
+        for ax in fig.axes:
+            box = ax.get_legend().get_window_extent(r)
+            line = ax.get_lines()[1]
+            pts = line.get_transform().transform(line.get_xydata())
+            if box.count_contains(pts):
+                return False
+        return True
+
+    assert legends_clear()
+    with narrowed(fig):
+        assert legends_clear()
