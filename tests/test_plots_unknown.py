@@ -50,7 +50,29 @@ def test_phase_frame_shades_the_estimation_phase_and_accumulates_the_excess(runs
     np.testing.assert_allclose(bottom.get_lines()[0].get_ydata(), np.cumsum(alg2.costs - alg1.costs))
     shaded = [p for p in top.patches]
     assert len(shaded) == 1 and shaded[0].get_x() == pytest.approx(-0.5)
-    assert "N = 6" in bottom.get_lines()[0].get_label()
+    assert "estimation phase, N = 6" in [t.get_text() for t in bottom.get_legend().get_texts()]
+
+
+def test_phase_frame_legends_stay_inside_the_figure(runs):
+    """Each legend fits in the figure's width, in the wide and the phone's rendering (one long
+    label, "excess cost (shaded: N = 10)", ran past the right edge of the phone's figure)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from orrc.viz.figures import narrowed
+
+    alg2, alg1 = runs
+    fig = up.phase_frame(alg2, alg1, fast=True)
+
+    def inside():
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        r = canvas.get_renderer()
+        return all(fig.bbox.x0 - 1 <= ax.get_legend().get_window_extent(r).x0 and
+                   ax.get_legend().get_window_extent(r).x1 <= fig.bbox.x1 + 1 for ax in fig.axes)
+
+    assert inside()
+    with narrowed(fig):
+        assert inside()
 
 
 def test_lemma4_terms_draw_the_margins(runs):

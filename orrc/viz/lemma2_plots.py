@@ -207,6 +207,7 @@ def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int
                 raise OrrcValueError(f"{name} must be (low, high) with 0 < low < high (log scale); got {tuple(lim)}")
             axis.set_ylim(*lim)
     ratio = float(np.median(margins.bound / np.maximum(margins.actual, 1e-300)))
-    fig.suptitle(f"M = {M}, a = {a:g} (a_min = {a_min:.4f}), H = {H}: median bound / cost = {ratio:.3g}",
+    # symbols as math, as in the text: a_min is $a_{\min}$
+    fig.suptitle(rf"$M = {M}$, $a = {a:g}$ ($a_{{\min}} = {a_min:.4f}$), $H = {H}$: median bound / cost = {ratio:.3g}",
                  fontsize=11)
     return fig
