@@ -50,18 +50,22 @@ def test_phase_frame_shades_the_estimation_phase_and_accumulates_the_excess(runs
     np.testing.assert_allclose(bottom.get_lines()[0].get_ydata(), np.cumsum(alg2.costs - alg1.costs))
     shaded = [p for p in top.patches]
     assert len(shaded) == 1 and shaded[0].get_x() == pytest.approx(-0.5)
-    assert "estimation phase, N = 6" in [t.get_text() for t in bottom.get_legend().get_texts()]
+    assert "estimation, N = 6" in [t.get_text() for t in bottom.get_legend().get_texts()]
 
 
-def test_phase_frame_legends_stay_inside_the_figure(runs):
+def test_phase_frame_legends_stay_inside_the_figure():
     """Each legend fits in the figure's width, in the wide and the phone's rendering (one long
     label, "excess cost (shaded: N = 10)", ran past the right edge of the phone's figure)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from orrc.viz.figures import narrowed
 
-    alg2, alg1 = runs
-    fig = up.phase_frame(alg2, alg1, fast=True)
+    model = orrc.ParametricSystem.linear(1, 1)
+    w = orrc.disturbances.uniform_box(160, 1, -0.5, 0.5, seed=0)
+    alg2 = orrc.simulate(SYS, orrc.EstimateThenControl(model, COST, 3, 120, use_w=False, theta_true=[0.5, 1.0]),
+                         np.zeros(1), w, 150)                       # a three-digit N, the longest label
+    alg1 = orrc.simulate(SYS, orrc.PreviewRHC(SYS, COST, 3), np.zeros(1), w, 150)
+    fig = up.phase_frame(alg2, alg1, title="Van der Pol, EDMD (degree 3), N = 120", fast=True)
 
     def inside():
         canvas = FigureCanvasAgg(fig)

@@ -174,7 +174,7 @@ def phase_frame(traj, reference, state: int = 0, title: str | None = None, fast:
             _shade(ax, N)
         # the shading named in the legend, one short entry each (one long label ran past the
         # right edge of a phone's figure)
-        ax2.fill_between([], [], [], color="0.9", label=f"estimation phase, N = {N}")
+        ax2.fill_between([], [], [], color="0.9", label=f"estimation, N = {N}")
     ax1.plot(t, reference.x[:, state], color="black", lw=1.2, ls="--", label="Algorithm 1, θ known")
     ax1.plot(t, traj.x[:, state], color="tab:blue", lw=1.4, label=label)
     lo, hi = ax1.get_ylim()
