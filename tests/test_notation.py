@@ -61,3 +61,24 @@ def test_rho_and_sigma_keep_their_meaning_in_printed_output(book, page):
     text = printed(page)
     assert not re.search(r"\brho\b|ρ", text), f"{page} prints rho/ρ, which is Lemmas 3-4's radius (use lambda_K)"
     assert not re.search(r"\bsigma\s*=", text), f"{page} prints 'sigma =', but σ is σ(x)"
+
+
+# every page of the book's text whose source is Markdown (the notation appendix and the errata too)
+TEXT_PAGES = sorted({*PAGES, "book/paper", "book/notation", "book/errata"})
+
+
+@pytest.mark.parametrize("page", TEXT_PAGES)
+def test_one_glyph_per_symbol(page):
+    """The margin ε̃ of Lemma 2 is written \\tilde\\epsilon everywhere, as in the notation appendix
+    (a reader who meets ϵ̃ and ε̃ takes them for two symbols)."""
+    text = (ROOT / f"{page}.md").read_text()
+    assert r"\tilde\varepsilon" not in text, f"{page} writes \\tilde\\varepsilon; the book writes \\tilde\\epsilon"
+
+
+def test_the_model_error_is_eta():
+    """Lemmas 3-4 perturb the model as θ̂ = θ + η d; the notation appendix says the same."""
+    notation = (ROOT / "book" / "notation.md").read_text()
+    chapter = (ROOT / "book" / "lemma3_4.md").read_text()
+    assert r"\hat\theta = \theta + \eta" in chapter, "the chapter no longer writes θ̂ = θ + η d"
+    assert r"\theta + \varepsilon" not in notation and r"\theta + \eta" in notation, \
+        "the notation appendix writes the model error of Lemmas 3-4 as θ̂ = θ + η d, as the chapter does"

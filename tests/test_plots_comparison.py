@@ -1,11 +1,13 @@
 """The figures of the comparison chapter draw the numbers they are given (orrc.viz.comparison_plots)."""
 import numpy as np
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 import orrc
 from orrc.comparison import compare, preview_value
 from orrc.viz import comparison_plots as cp
+from orrc.viz.figures import narrowed
 
 
 @pytest.fixture(scope="module")
@@ -73,6 +75,45 @@ def test_running_cost_is_the_cumulative_cost(scalar):
     tr = orrc.simulate(s, orrc.LQR(s, c), np.zeros(1), w, 12)
     line = cp.running_cost({"LQR": tr}).axes[0].get_lines()[0]
     np.testing.assert_allclose(line.get_ydata(), np.cumsum(tr.costs))
+
+
+def _renderer(fig):
+    """The renderer of ``fig`` after its layout is drawn (an Agg canvas, as the book renders)."""
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    return canvas.get_renderer()
+
+
+def _boxes(fig, ax, artist):
+    """The display boxes of ``ax`` and of ``artist`` after the figure's layout is drawn."""
+    renderer = _renderer(fig)
+    return ax.get_window_extent(renderer), artist.get_window_extent(renderer)
+
+
+def test_running_cost_keeps_its_legend_off_the_curves(scalar):
+    s, c, w, _ = scalar
+    runs = {name: orrc.simulate(s, ctrl, np.zeros(1), w, 12)
+            for name, ctrl in {"LQR": orrc.LQR(s, c), "preview RHC, M = 5": orrc.PreviewRHC(s, c, M=5),
+                               "clairvoyant optimum": orrc.Clairvoyant(s, c, 12)}.items()}
+    fig = cp.running_cost(runs)
+    ax = fig.axes[0]
+    box, legend = _boxes(fig, ax, ax.get_legend())
+    assert legend.y1 < box.y0, "the legend overlaps the axes, where it can cover a curve"
+    assert legend.y0 >= fig.bbox.y0 - 1, "the legend runs past the figure's bottom edge"
+    with narrowed(fig):   # and in the phone's rendering too
+        box, legend = _boxes(fig, ax, ax.get_legend())
+        assert legend.y1 < box.y0 and legend.y0 >= fig.bbox.y0 - 1 and legend.x1 <= fig.bbox.x1 + 1
+
+
+def test_metric_bars_label_stays_inside_a_phones_figure(scalar):
+    """The bar names take most of a narrow figure's width: the axis label is flush right, never cut."""
+    s, c, w, _ = scalar
+    rows = compare(s, c, {"LQR": orrc.LQR(s, c), "regret-optimal, full information":
+                          orrc.RegretOptimal(s, c, 12, causality="full-information")}, w, 12, 1.0)
+    fig = cp.metric_bars(rows, "worst_regret")
+    with narrowed(fig):
+        label = fig.axes[0].xaxis.label.get_window_extent(_renderer(fig))
+        assert fig.bbox.x0 - 1 <= label.x0 and label.x1 <= fig.bbox.x1 + 1
 
 
 @pytest.mark.parametrize("call, match", [

@@ -47,6 +47,31 @@ def test_coefficients_plot_draws_the_papers_coefficients_and_the_three_bands():
     assert len(fig.axes[0].patches) == 2
 
 
+def test_coefficients_plot_keeps_its_legend_off_the_curves():
+    """A figure of its own puts the legend under the axes, in the wide and the phone's rendering
+    (inside, it covered the flat tail that the text reads from right to left)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from orrc.viz.figures import narrowed
+
+    M, H = 8, 20
+    coefs = {f"a = {a}": theory.lemma2_coefficients(M, H, a, 2.0, 4.0, 6.0) for a in (0.86, 0.9, 0.95)}
+    fig = theory_plots.lemma2_coefficients(coefs, M, H)
+    ax = fig.axes[0]
+
+    def legend_under_axes():
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        r = canvas.get_renderer()
+        legend = ax.get_legend().get_window_extent(r)
+        # under the axes, and inside the figure (a PNG of the figure's size would cut it off)
+        return legend.y1 < ax.get_window_extent(r).y0 and legend.y0 >= fig.bbox.y0 - 1
+
+    assert legend_under_axes()
+    with narrowed(fig):
+        assert legend_under_axes()
+
+
 def test_coefficients_plot_rejects_bad_input():
     good = np.ones(4 + 9 - 1)
     with pytest.raises(ValueError, match=r"coefs\['x'\]"):

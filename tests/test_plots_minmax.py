@@ -76,7 +76,13 @@ def test_controller_costs_and_the_explorer_frame(scalar):
     assert heights == [2.0, 3.0, 5.0]
     # each bar shows its value, and a missing bar ("b" has no min-max RHC) no label
     assert sorted(t.get_text() for t in fig.axes[0].texts if t.get_text()) == ["2", "3", "5"]
-    assert fig.axes[0].get_ylim()[1] >= 3 * 5.0 - 1e-9, "room above the tallest bar for its value"
+    # values of one order: a linear axis from zero, room above the tallest bar for its value
+    assert fig.axes[0].get_yscale() == "linear" and fig.axes[0].get_ylim()[0] == 0.0
+    assert fig.axes[0].get_ylim()[1] >= 1.1 * 5.0
+    # values over decades: a log axis whose bottom is below the smallest bar (every bar shows)
+    fig = minmax_plots.controller_costs({"a": {"LQR": 0.4, "min-max RHC": 3.0}, "b": {"LQR": 12.0}})
+    lo, hi = fig.axes[0].get_ylim()
+    assert fig.axes[0].get_yscale() == "log" and lo < 0.4 / 2 and hi >= 3 * 12.0 - 1e-9
     vb = checks.minmax_value_bound_margins(traj, M, W, c.alpha_hi_W, c.gamma_bar_W)
     lqr = orrc.simulate(ex.system, orrc.ZeroInput(1, ex.cost), np.array([1.0]), traj.w, traj.T)
     fig = minmax_plots.minmax_frame(M, 0.3, {"min-max RHC": traj, "zero input": lqr}, bound=vb.bound, w_max_sq=0.09)

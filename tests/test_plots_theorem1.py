@@ -163,6 +163,32 @@ def test_adversary_draws_the_worst_disturbance_and_its_cost(scalar):
     np.testing.assert_allclose(fig.axes[0].get_lines()[0].get_ydata(), np.sqrt(2.0))
 
 
+def test_adversary_legend_covers_no_curve(scalar):
+    """One legend, under the axes of the costs, in the wide and the phone's rendering (inside the
+    panels it sat on the humps of the worst disturbance and of its cost)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from orrc.viz.figures import narrowed
+
+    ex, _, _, rhc, _ = scalar
+    res = certify.worst_case_attenuation(ex.system, rhc, 20)
+    tr = orrc.simulate(ex.system, rhc, np.zeros(1), res.w, 20)
+    fig = theory_plots.adversary({"preview RHC": res.w, "again": res.w}, {"preview RHC": tr.costs, "again": tr.costs})
+    ax, ax2 = fig.axes[:2]
+    assert ax.get_legend() is None
+
+    def legend_under_axes():
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        r = canvas.get_renderer()
+        legend = ax2.get_legend().get_window_extent(r)
+        return legend.y1 < ax2.get_window_extent(r).y0 and legend.y0 >= fig.bbox.y0 - 1
+
+    assert legend_under_axes()
+    with narrowed(fig):
+        assert legend_under_axes()
+
+
 def test_adversary_rejects_bad_input():
     w = np.ones((5, 1))
     with pytest.raises(ValueError, match="ws"):

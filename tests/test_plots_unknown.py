@@ -50,7 +50,33 @@ def test_phase_frame_shades_the_estimation_phase_and_accumulates_the_excess(runs
     np.testing.assert_allclose(bottom.get_lines()[0].get_ydata(), np.cumsum(alg2.costs - alg1.costs))
     shaded = [p for p in top.patches]
     assert len(shaded) == 1 and shaded[0].get_x() == pytest.approx(-0.5)
-    assert "N = 6" in bottom.get_lines()[0].get_label()
+    assert "estimation, N = 6" in [t.get_text() for t in bottom.get_legend().get_texts()]
+
+
+def test_phase_frame_legends_stay_inside_the_figure():
+    """Each legend fits in the figure's width, in the wide and the phone's rendering (one long
+    label, "excess cost (shaded: N = 10)", ran past the right edge of the phone's figure)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from orrc.viz.figures import narrowed
+
+    model = orrc.ParametricSystem.linear(1, 1)
+    w = orrc.disturbances.uniform_box(160, 1, -0.5, 0.5, seed=0)
+    alg2 = orrc.simulate(SYS, orrc.EstimateThenControl(model, COST, 3, 120, use_w=False, theta_true=[0.5, 1.0]),
+                         np.zeros(1), w, 150)                       # a three-digit N, the longest label
+    alg1 = orrc.simulate(SYS, orrc.PreviewRHC(SYS, COST, 3), np.zeros(1), w, 150)
+    fig = up.phase_frame(alg2, alg1, title="Van der Pol, EDMD (degree 3), N = 120", fast=True)
+
+    def inside():
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        r = canvas.get_renderer()
+        return all(fig.bbox.x0 - 1 <= ax.get_legend().get_window_extent(r).x0 and
+                   ax.get_legend().get_window_extent(r).x1 <= fig.bbox.x1 + 1 for ax in fig.axes)
+
+    assert inside()
+    with narrowed(fig):
+        assert inside()
 
 
 def test_lemma4_terms_draw_the_margins(runs):
@@ -124,3 +150,32 @@ def test_bad_input_is_a_clear_error(call, words):
     with pytest.raises(orrc.OrrcValueError) as info:
         call()
     assert words in str(info.value)
+
+
+def test_lipschitz_quotients_legend_clears_the_line():
+    """Each panel's legend (upper left) sits above its line α‖θ̂ − θ‖ in the wide and the phone's
+    rendering: no point of the line falls inside the legend's box."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from orrc.viz.figures import narrowed
+
+    rng = np.random.default_rng(0)
+    d = np.geomspace(0.011, 0.27, 120) * rng.uniform(0.5, 1.0, 120)
+    fig = up.lipschitz_quotients(d, d * rng.uniform(0.001, 0.3, 120), d * rng.uniform(0.005, 0.5, 120),
+                                 alpha_V=1.38, alpha_kappa=2.3, title="Lemma 3")
+
+    def legends_clear():
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        r = canvas.get_renderer()
+        for ax in fig.axes:
+            box = ax.get_legend().get_window_extent(r)
+            line = ax.get_lines()[1]
+            pts = line.get_transform().transform(line.get_xydata())
+            if box.count_contains(pts):
+                return False
+        return True
+
+    assert legends_clear()
+    with narrowed(fig):
+        assert legends_clear()

@@ -126,3 +126,12 @@ def test_solver_effort_shows_the_distributions_on_integer_and_median_marked_axes
     medians = sorted(line.get_xdata()[0] for line in ax_t.lines if line.get_linestyle() == "--")
     assert np.allclose(medians, [0.1, 0.2]), "the medians in ms: 0.1 warm (the outlier ignored), 0.2 cold"
     assert ax_t.get_xscale() == "log", "times on a log axis"
+
+
+def test_the_two_min_max_controllers_have_colours_of_their_own():
+    """The min-max chapter draws open-loop and feedback min-max RHC side by side: one colour each."""
+    from orrc.viz.style import controller_color
+
+    names = ["open-loop min-max", "feedback min-max", "preview RHC", "LQR", "H∞", "clairvoyant optimum"]
+    colours = [controller_color(n, i) for i, n in enumerate(names)]
+    assert len(set(colours)) == len(names), dict(zip(names, colours))

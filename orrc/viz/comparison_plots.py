@@ -82,7 +82,9 @@ def metric_bars(rows, metric: str, title: str | None = None, log: bool | None = 
         ax.set_xlim(min(0.0, vals.min() * 1.3), max(0.0, vals.max()) + 0.3 * span)
     ax.bar_label(bars, labels=[f"{v:.3g}" for v in vals], padding=3, fontsize=9)
     ax.set_yticks(y, [r.name for r in kept], fontsize=9)
-    ax.set_xlabel(_METRICS[metric] + (" (log scale)" if log and positive.size else ""))
+    # flush right: under the bars, never past the figure's edge when the names take most of a
+    # phone's width
+    ax.set_xlabel(_METRICS[metric] + (" (log scale)" if log and positive.size else ""), loc="right")
     if title:
         ax.set_title(title, fontsize=10)
     return fig
@@ -157,7 +159,7 @@ def running_cost(trajs: dict, title: str | None = None, fast: bool = False) -> F
     Returns
     -------
     Figure
-        One panel, the legend in its upper left corner.
+        One panel, the legend under it.
 
     Examples
     --------
@@ -183,7 +185,8 @@ def running_cost(trajs: dict, title: str | None = None, fast: bool = False) -> F
                 linestyle="--" if "clairvoyant" in label.lower() else "-")
     ax.set_xlabel("$t$")
     ax.set_ylabel(r"$\sum_{s \leq t} c_s$")
-    ax.legend(fontsize=9, loc="upper left")
+    # under the axes: inside, it covers the curves that rise fastest (a phone's narrow figure most)
+    legend_below(ax, fontsize=9, ncol=min(len(trajs), 3))
     if title:
         ax.set_title(title, fontsize=10)
     return fig

@@ -162,7 +162,8 @@ def horizon_threshold(Ms, alpha_hi, alpha_lo, M_star: int | None = None) -> Figu
         ax.text(M_star, ax.get_ylim()[1], f" first certified $M = {M_star}$", va="top", fontsize=9)
     ax.set_xlabel("horizon $M$")
     ax.set_ylabel("horizon")
-    ax.legend(fontsize=FONT, loc="lower right")
+    # under the axes: in a corner it covered the required horizon's plateau on a phone's figure
+    _legend_below(ax, ncol=2, offset=-0.22)
     return fig
 
 

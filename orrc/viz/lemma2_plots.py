@@ -12,6 +12,7 @@ from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from ._theory_common import _finish, _margins, _message
+from .figures import legend_below
 from .style import FONT, _axes, _figure, _nonempty_dict
 
 __all__ = ["lemma2_coefficients", "bounds_vs_actual", "lemma2_frame"]
@@ -33,7 +34,8 @@ def lemma2_coefficients(coefs: dict, M: int, H: int, ax=None) -> Figure:
     Returns
     -------
     matplotlib.figure.Figure
-        The figure of ``ax``, or a new one-panel figure.
+        The figure of ``ax`` (its legend in the lower right corner), or a new one-panel figure
+        (its legend under the axes).
 
     Examples
     --------
@@ -47,6 +49,7 @@ def lemma2_coefficients(coefs: dict, M: int, H: int, ax=None) -> Figure:
     coefs = _nonempty_dict("coefs", coefs)
     M = as_int("M", M, minimum=2)
     H = as_int("H", H, minimum=M)
+    alone = ax is None
     fig, ax = _axes(ax, 6.4, 3.4)
     j = np.arange(H + M - 1)
     for i, (label, c) in enumerate(coefs.items()):
@@ -62,7 +65,10 @@ def lemma2_coefficients(coefs: dict, M: int, H: int, ax=None) -> Figure:
                         va="bottom", fontsize=FONT, color="0.3")
     ax.set_xlabel("$j - t$")
     ax.set_ylabel(r"$M_{w,j}$")
-    ax.legend(fontsize=FONT, loc="lower right")
+    if alone:   # a figure of its own: the legend under the axes, where it covers no curve
+        legend_below(ax, fontsize=FONT, ncol=min(len(coefs), 3))
+    else:       # a panel of an explorer frame (one curve): its corner, kept for the frame's layout
+        ax.legend(fontsize=FONT, loc="lower right")
     return fig
 
 
@@ -201,6 +207,7 @@ def lemma2_frame(M: int, a: float, a_min: float, coef=None, margins=None, H: int
                 raise OrrcValueError(f"{name} must be (low, high) with 0 < low < high (log scale); got {tuple(lim)}")
             axis.set_ylim(*lim)
     ratio = float(np.median(margins.bound / np.maximum(margins.actual, 1e-300)))
-    fig.suptitle(f"M = {M}, a = {a:g} (a_min = {a_min:.4f}), H = {H}: median bound / cost = {ratio:.3g}",
+    # symbols as math, as in the text: a_min is $a_{\min}$
+    fig.suptitle(rf"$M = {M}$, $a = {a:g}$ ($a_{{\min}} = {a_min:.4f}$), $H = {H}$: median bound / cost = {ratio:.3g}",
                  fontsize=11)
     return fig

@@ -50,6 +50,10 @@ def lipschitz_quotients(dtheta, dV, dkappa, alpha_V: float, alpha_kappa: float, 
         ax.loglog(d[ok], y[ok], "o", ms=3, color="tab:blue", alpha=0.6, label="samples")
         ax.loglog(line, a * line, color="tab:red",
                   label=rf"${name}\,\Vert\hat\theta-\theta\Vert$, ${name} = {a:.3g}$")
+        # two decades of head room over the line: the legend in the upper left corner
+        # sits above it instead of across it
+        top = max(float(np.max(a * line)), float(np.max(y[ok], initial=0.0)))
+        ax.set_ylim(top=100.0 * top)
     _style(axes[0], None, "|V(θ̂) − V(θ)|", title, loc="upper left")
     _style(axes[1], "‖θ̂ − θ‖", "‖κ(θ̂) − κ(θ)‖", loc="upper left")
     return fig

@@ -183,8 +183,9 @@ def minmax_pareto(constants, preview=None, title: str | None = None) -> Figure:
 
 def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"total cost $\sum_t c_t$") -> Figure:
     """Grouped bars of total costs, as in the comparisons of Algorithm 3 with the other controllers:
-    one group per disturbance, one colour per controller, on a log scale, each bar with its value
-    (3 significant digits) above it.
+    one group per disturbance, one colour per controller, each bar with its value (3 significant
+    digits) above it; on a log scale when the values span more than a decade, else on a linear
+    one from zero.
 
     Parameters
     ----------
@@ -200,11 +201,11 @@ def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"tota
     Examples
     --------
     >>> from orrc.viz import minmax_plots
-    >>> costs = {"uniform in W": {"min-max RHC": 2.5, "LQR": 2.6},
+    >>> costs = {"uniform in W": {"min-max RHC": 0.4, "LQR": 2.6},
     ...          "worst vertex sequence": {"min-max RHC": 9.0, "LQR": 11.0}}
     >>> fig = minmax_plots.controller_costs(costs, title="T = 30")
     >>> fig.axes[0].get_yscale(), sorted(t.get_text() for t in fig.axes[0].texts)
-    ('log', ['11', '2.5', '2.6', '9'])
+    ('log', ['0.4', '11', '2.6', '9'])
     """
     costs = _nonempty_dict("costs", costs, "dict of controller -> total cost")
     controllers = []
@@ -227,9 +228,15 @@ def controller_costs(costs: dict, title: str | None = None, ylabel: str = r"tota
         top = max([top] + [v for v in vals if np.isfinite(v)])
     ax.set_xticks(range(len(costs)))
     ax.set_xticklabels(list(costs), fontsize=9)
-    ax.set_yscale("log")
-    if top > 0:
-        ax.set_ylim(top=top * 3)   # room for the values above the tallest bars
+    positive = [v for d in costs.values() for v in map(float, d.values()) if v > 0]
+    if positive and max(positive) > 10 * min(positive):
+        # values over more than a decade: a log axis whose bottom lies below the smallest bar, so
+        # that every bar shows (from an automatic bottom the smallest one could be a sliver)
+        ax.set_yscale("log")
+        ax.set_ylim(min(positive) / 3, top * 3)   # room for the values above the tallest bars
+    else:
+        # values of one order: bars from zero, whose heights compare at a glance
+        ax.set_ylim(0.0, 1.15 * top if top > 0 else 1.0)
     ax.set_ylabel(ylabel)
     _legend_below(ax, ncol=2, offset=-0.14)
     if title:

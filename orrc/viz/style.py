@@ -13,16 +13,17 @@ from .._validate import OrrcValueError, as_float
 
 __all__ = ["controller_color", "FONT", "WIDTH"]
 
-_NAMED = {"min-max": "tab:red", "game": "tab:purple", "h∞": "tab:purple", "zero": "0.55", "lqr": "tab:orange", "rhc": "tab:blue",
-          "preview": "tab:blue", "clairvoyant": "black", "optimum": "black"}
+# the first key a label contains decides: "feedback min-max" before "min-max"
+_NAMED = {"feedback min-max": "tab:brown", "min-max": "tab:red", "game": "tab:purple", "h∞": "tab:purple",
+          "zero": "0.55", "lqr": "tab:orange", "rhc": "tab:blue", "preview": "tab:blue", "clairvoyant": "black", "optimum": "black"}
 _CYCLE = ["tab:blue", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 
 
 def controller_color(label: str, index: int = 0) -> str:
     """A stable colour per controller, so a controller looks the same in every figure of the book:
-    zero input grey, LQR orange, preview RHC (Algorithm 1) blue, min-max RHC (Algorithm 3) red, a
-    game or H∞ controller purple, the clairvoyant optimum black; other labels cycle through a fixed
-    palette.
+    zero input grey, LQR orange, preview RHC (Algorithm 1) blue, min-max RHC (Algorithm 3) red and
+    its feedback form brown, a game or H∞ controller purple, the clairvoyant optimum black; other
+    labels cycle through a fixed palette.
 
     Parameters
     ----------
@@ -41,6 +42,8 @@ def controller_color(label: str, index: int = 0) -> str:
     >>> from orrc.viz.plots import controller_color
     >>> [controller_color(label) for label in ("LQR", "preview RHC, M = 10")]
     ['tab:orange', 'tab:blue']
+    >>> [controller_color(label) for label in ("open-loop min-max", "feedback min-max")]
+    ['tab:red', 'tab:brown']
     >>> controller_color("mine", 1)
     'tab:green'
     """

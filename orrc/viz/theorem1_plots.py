@@ -15,6 +15,7 @@ from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
 from ._theory_common import _finish, _margins
+from .figures import legend_below
 from .lemma2_plots import _admissible_frame
 from .style import FONT, _axes, _figure, _nonempty_dict
 
@@ -211,7 +212,7 @@ def adversary(ws: dict, costs: dict, title: str | None = None) -> Figure:
     Returns
     -------
     matplotlib.figure.Figure
-        Two panels: the disturbances and the stage costs.
+        Two panels: the disturbances and the stage costs, one legend under the second.
 
     Examples
     --------
@@ -246,11 +247,12 @@ def adversary(ws: dict, costs: dict, title: str | None = None) -> Figure:
     ax.set_xlabel("$t$")
     ax.set_ylabel("$w_t$" if all(np.asarray(w).shape[1] == 1 for w in ws.values()) else r"$\|w_t\|$")
     ax.set_title(r"worst-case disturbance, $\sum_t\|w_t\|^2 = 1$", fontsize=10)
-    ax.legend(fontsize=FONT)
     ax2.set_xlabel("$t$")
     ax2.set_ylabel("stage cost $c_t$")
     ax2.set_title("the cost it causes (from $x_0 = 0$)", fontsize=10)
-    ax2.legend(fontsize=FONT)
+    # one legend for both panels (the same controllers, the same colours), under the cost panel:
+    # inside either panel it covered the humps of the curves
+    legend_below(ax2, fontsize=FONT, ncol=2)
     if title:
         fig.suptitle(title, fontsize=11)
     return fig
@@ -323,8 +325,9 @@ def theorem1_frame(M: int, a: float, a_min: float, a_grid=None, gamma_c_grid=Non
     regret_growth(margin.t, {rf"$R^p_t(\gamma_c)$, $\gamma_c = {gc:.4g}$": margin.actual}, ceiling=margin.bound,
                   ax=ax2, ylim=ylim)
     ax2.set_title("the guarantee along one run", fontsize=10)
-    fig.suptitle(f"M = {M}, a = {a:g} (a_min = {a_min:.4f}): smallest margin C_t - R_t = {margin.margin.min():.4g}",
-                 fontsize=11)
+    # symbols as math, as in the text: a_min is $a_{\min}$, the margin is C_t − R^p_t
+    fig.suptitle(rf"$M = {M}$, $a = {a:g}$ ($a_{{\min}} = {a_min:.4f}$): smallest margin "
+                 rf"$C_t - R^p_t = {margin.margin.min():.4g}$", fontsize=11)
     return fig
 
 

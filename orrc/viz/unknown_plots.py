@@ -172,15 +172,17 @@ def phase_frame(traj, reference, state: int = 0, title: str | None = None, fast:
     if N > 0:
         for ax in (ax1, ax2):
             _shade(ax, N)
+        # the shading named in the legend, one short entry each (one long label ran past the
+        # right edge of a phone's figure)
+        ax2.fill_between([], [], [], color="0.9", label=f"estimation, N = {N}")
     ax1.plot(t, reference.x[:, state], color="black", lw=1.2, ls="--", label="Algorithm 1, θ known")
     ax1.plot(t, traj.x[:, state], color="tab:blue", lw=1.4, label=label)
     lo, hi = ax1.get_ylim()
     ax1.set_ylim(lo, hi + 0.55 * (hi - lo))          # room for the legend above the curves
     _style(ax1, None, f"state $x_{{{state + 1}}}$", title, loc="upper right")
     excess = np.cumsum(traj.costs - reference.costs)
-    ax2.plot(np.arange(traj.T), excess, color="tab:red", lw=1.5,
-             label="excess cost" + (f" (shaded: N = {N})" if N > 0 else ""))
+    ax2.plot(np.arange(traj.T), excess, color="tab:red", lw=1.5, label="excess cost")
     lo, hi = ax2.get_ylim()
-    ax2.set_ylim(lo, hi + 0.45 * (hi - lo))          # room for the legend above the curve
+    ax2.set_ylim(lo, hi + 0.8 * (hi - lo))           # room for the legend (two rows) above the curve
     _style(ax2, "t", r"$\sum_{s \leq t}\,(c_s - c_s^{\rm known})$", loc="upper left")
     return fig
