@@ -406,4 +406,4 @@ def quadrotor(dt: float = 0.05, mass: float = 1.0, inertia=(0.02, 0.02, 0.04), g
 
 
 ALL = {f.__name__: f for f in (scalar_unstable, double_integrator, two_mass_spring,
-                               inverted_pendulum, van_der_pol, mass_chain)}
+                               inverted_pendulum, van_der_pol, mass_chain, quadrotor)}
