@@ -558,8 +558,11 @@ async def check_page(chromium, page: str) -> None:
             await pg.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
             # caret="initial": no text caret to hide on these pages, and hiding it (the default) restyles
             # the whole page twice, a stylesheet put in and taken out (0.1 to 0.4 s a screenshot of a tall page)
-            await pg.screenshot(path=str(SHOTS / f"{page_id(page)}-{width}.jpg"), full_page=True, quality=85,
-                          caret="initial")
+            shot = SHOTS / f"{page_id(page)}-{width}.jpg"
+            await pg.screenshot(path=str(shot), full_page=True, quality=85, caret="initial")
+            # a page past what one JPEG holds (65,535 px) gives an empty file, and no picture to look at
+            tall = await pg.evaluate("() => document.documentElement.scrollHeight")
+            assert shot.stat().st_size > 0, f"{page} at {width} px: an empty screenshot; the page is {tall} px tall"
             # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
             overflow = await pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
             assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
