@@ -338,7 +338,7 @@ _OVERFLOWING = """() => {
   const column = document.querySelector('#main-content article') || document.querySelector('#main-content');
   const edge = column.getBoundingClientRect();
   const boxes = [];
-  column.querySelectorAll('div.math, mjx-container, pre, table, p, code, img').forEach(e => {
+  column.querySelectorAll('div.math, mjx-container, pre, table, p, code, img, svg').forEach(e => {
     const r = e.getBoundingClientRect();
     if (r.width === 0 || (r.right <= edge.right + 1 && r.left >= edge.left - 1)) { return; }
     // the nearest ancestor that cuts it off: one that clips (overflow applies to block boxes only,
@@ -575,6 +575,11 @@ async def check_page(chromium, page: str) -> None:
                 assert box["overflowX"] in ("auto", "scroll"), f"{page} at {width} px: clipped, no scrolling: {box}"
                 assert box["cue"] and box["shadow"] != "none", f"{page} at {width} px: scrolls without a cue: {box}"
                 assert box["tabindex"] == "0" and box["label"], f"{page} at {width} px: not keyboard-scrollable: {box}"
+            # the map of the results keeps its labels legible (9.5 pt drawn in a figure about 700 px wide:
+            # at least 600 px shown, scrolling in its own box on a phone)
+            maps = await pg.evaluate("() => Array.from(document.querySelectorAll('svg.orrc-results-map'))"
+                                     ".map(s => s.getBoundingClientRect().width)")
+            assert all(w >= 600 for w in maps), f"{page} at {width} px: the map of the results is shown {maps} px wide"
             # the accessibility audit: no serious or critical violation (report beside the screenshots).
             # Once a page: axe's cost is building its model of the whole document (a few seconds on a page
             # of 13,000 elements, whatever the rules), and the document, its roles, names and colours are

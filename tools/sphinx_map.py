@@ -139,8 +139,9 @@ def _resolve(app, doctree, docname):
             node.replace_self(nodes.paragraph(text=ALT))
             continue
         urls = {r.page: app.builder.get_relative_uri(docname, r.page) for r in RESULTS}
-        html = (f'<figure class="orrc-map">{draw_svg(urls, node["part"])}<figcaption>{CAPTION}</figcaption>'
-                '</figure>')
+        # the map keeps a legible size on a phone and scrolls sideways in its own box (orrc-a11y.js)
+        html = (f'<figure class="orrc-map"><div class="orrc-map-wrap">{draw_svg(urls, node["part"])}</div>'
+                f'<figcaption>{CAPTION}</figcaption></figure>')
         node.replace_self(nodes.raw("", html, format="html"))
 
 

@@ -4,10 +4,12 @@
 // keyboard can scroll it too. Re-checked when the window is resized and after MathJax typesets.
 (function () {
   var SELECTOR = 'div.math, mjx-container[display="true"], div.highlight pre, .cell_output pre, ' +
-                 'div.pst-scrollable-table-container, .table-wrapper, div.orrc-table-wrap, mjx-container.orrc-wide-inline';
+                 'div.pst-scrollable-table-container, .table-wrapper, div.orrc-table-wrap, mjx-container.orrc-wide-inline, ' +
+                 'div.orrc-map-wrap';
   function label(el) {
     if (el.matches('div.math, mjx-container')) { return 'equation, scrolls sideways'; }
     if (el.matches('pre')) { return 'code, scrolls sideways'; }
+    if (el.matches('div.orrc-map-wrap')) { return 'map of the results, scrolls sideways'; }
     return 'table, scrolls sideways';
   }
   function edges(el) {
