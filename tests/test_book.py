@@ -575,6 +575,12 @@ async def check_page(chromium, page: str) -> None:
                 assert box["overflowX"] in ("auto", "scroll"), f"{page} at {width} px: clipped, no scrolling: {box}"
                 assert box["cue"] and box["shadow"] != "none", f"{page} at {width} px: scrolls without a cue: {box}"
                 assert box["tabindex"] == "0" and box["label"], f"{page} at {width} px: not keyboard-scrollable: {box}"
+            # at a laptop's width a name in the API reference's summary tables stays on one line
+            if width == WIDTHS[0]:
+                broken = await pg.evaluate("() => Array.from(document.querySelectorAll("
+                                           "'table.autosummary td:first-child code'))"
+                                           ".filter(c => c.getClientRects().length > 1).map(c => c.textContent)")
+                assert not broken, f"{page} at {width} px: names broken across lines: {broken[:5]}"
             # the map of the results keeps its labels legible (9.5 pt drawn in a figure about 700 px wide:
             # at least 600 px shown, scrolling in its own box on a phone)
             maps = await pg.evaluate("() => Array.from(document.querySelectorAll('svg.orrc-results-map'))"
