@@ -20,6 +20,7 @@ if str(ROOT) not in sys.path:
 BUILD_ROOT = Path(os.environ.get("ORRC_BOOK_OUT", ROOT)) / "_build"
 BOOK_OUT = BUILD_ROOT / "test"          # jupyter-book's --path-output for the test build
 BOOK_HTML = BOOK_OUT / "_build" / "html"
+BOOK_LOG = BOOK_OUT / "book-build.log"   # everything the session's book build printed
 PUBLISHED_HTML = ROOT / "_build" / "html"
 SHOTS = BUILD_ROOT / "screenshots"
 # the libraries that controllers compile (orrc._jit) go to the build folder, not the user's ~/.cache
@@ -165,7 +166,9 @@ def _start_book():
             python = reader_env()
         # build() sets ORRC_BOOK_BUILD=1 for the chapters (static frames, no progress bars in the outputs)
         with timed("book build", after="reader environment"):
-            rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")}, kernel_python=python)
+            BOOK_OUT.mkdir(parents=True, exist_ok=True)
+            rc = build(BOOK_OUT, extra_env={"ORRC_QUICK": os.environ.get("ORRC_QUICK", "1")}, kernel_python=python,
+                       log=BOOK_LOG)
         return {"rc": rc, "seconds": time.perf_counter() - t0, "started": started, "published": published,
                 "python": python}
 

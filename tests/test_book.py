@@ -38,7 +38,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import BOOK_HTML as HTML, BOOK_OUT, HOW_TO_ENABLE, PUBLISHED_HTML, SHOTS, after, background, find_chromium, tree_fingerprint
+from conftest import BOOK_HTML as HTML, BOOK_LOG, BOOK_OUT, HOW_TO_ENABLE, PUBLISHED_HTML, SHOTS, after, background, find_chromium, tree_fingerprint
 from tools.download import portable_source
 from tools.toc import notebook_pages, toc_pages
 
@@ -105,8 +105,11 @@ def is_remote(url: str) -> bool:
 # ---------------------------------------------------------------- the build (once: the `book` fixture of conftest.py)
 
 def test_book_builds_without_warnings_or_cell_errors(book):
-    assert book["rc"] == 0, ("jupyter-book build failed (a cell error or a Sphinx warning; "
-                             "run `make book` to see it)")
+    if book["rc"] != 0:
+        lines = BOOK_LOG.read_text(encoding="utf-8", errors="replace").splitlines() if BOOK_LOG.is_file() else []
+        why = [ln for ln in lines if re.search(r"WARNING|ERROR|Error|Traceback|not cached", ln)][:20]
+        pytest.fail(f"jupyter-book build failed (a cell error or a Sphinx warning); {BOOK_LOG}:\n"
+                    + "\n".join(why + ["..."] + lines[-15:]))
     for page in PAGES:
         assert (HTML / f"{page}.html").is_file(), f"{page}.html was not written"
 
