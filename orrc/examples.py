@@ -360,10 +360,12 @@ def quadrotor(dt: float = 0.05, mass: float = 1.0, inertia=(0.02, 0.02, 0.04), g
     >>> ex = orrc.examples.quadrotor()
     >>> ex.system
     NonlinearSystem(n=12, m=4, name='quadrotor')
-    >>> bool(np.allclose(ex.system.step(np.zeros(12), np.zeros(4), np.zeros(12)), 0))   # hover
+    >>> x, u, w = np.zeros(12), np.zeros(4), np.zeros(12)
+    >>> bool(np.allclose(ex.system.step(x, u, w), 0))   # hover is an equilibrium
     True
     >>> A, B = ex.system.linearize()
-    >>> print(f"{A[3, 7]:.4f} {A[4, 6]:.4f}")    # the pitch and roll tilt the thrust: g dt, −g dt
+    >>> # pitch and roll tilt the thrust: g dt and -g dt
+    >>> print(f"{A[3, 7]:.4f} {A[4, 6]:.4f}")
     0.4905 -0.4905
     """
     dt = as_float("dt", dt, minimum=0.0, strict_min=True)
