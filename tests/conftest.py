@@ -323,14 +323,18 @@ _BUILT = {}
 # book build leave, at a lower priority (a nice value higher by GRADING_NICE), instead of slowing both.
 # Linux gives each thread its nice value and every thread and process it starts inherits it.
 GRADING_NICE = 5
+# The tests of the main thread give way to the book's build and the jobs that read it (the critical
+# path), and take the cores those leave: once every background job is started, the main thread's nice
+# value goes up by MAIN_NICE (the jobs' threads, already started, keep theirs; the gradings stay below).
+MAIN_NICE = 3
 
 
-def _yield_to_the_critical_path():
-    """Lower the calling thread's priority by GRADING_NICE (Linux only: elsewhere the nice value is
-    the whole process's, and the tests must keep theirs)."""
+def _yield_to_the_critical_path(by: int = GRADING_NICE):
+    """Lower the calling thread's priority by ``by`` (Linux only: elsewhere the nice value is the
+    whole process's, and the tests must keep theirs)."""
     if sys.platform.startswith("linux"):
         tid = threading.get_native_id()
-        os.setpriority(os.PRIO_PROCESS, tid, min(19, os.getpriority(os.PRIO_PROCESS, tid) + GRADING_NICE))
+        os.setpriority(os.PRIO_PROCESS, tid, min(19, os.getpriority(os.PRIO_PROCESS, tid) + by))
 
 
 def _start_grading(wanted=frozenset()):
@@ -431,17 +435,21 @@ def _waited(what: str):
 @pytest.hookimpl(trylast=True)   # after -m/-k deselection: a deselected test starts no build
 def pytest_collection_modifyitems(session, config, items):
     """Order: the tests that need neither the book nor the gradings first (they run while the book
-    builds and the assignments are graded in the background), then those that read the book, then
-    those that read the gradings."""
+    builds and the assignments are graded in the background), then those that read the book, those
+    that read a job computed from the book (the browser's checks, the student edition) after them,
+    then those that read the gradings."""
     def needs(item, name):
         return name in getattr(item, "fixturenames", ())
 
     graded = [it for it in items if needs(it, "graded")]
     # a test of a background fixture computed after the book waits for it like one that reads the book
     on_book = [it for it in items if it not in graded and any(needs(it, n) for n in ("book", *_AFTER["book"]))]
-    items[:] = [it for it in items if it not in graded and it not in on_book] + on_book + graded
+    on_job = [it for it in on_book if any(needs(it, n) for n in _AFTER["book"])]
+    on_book = [it for it in on_book if it not in on_job]
+    items[:] = [it for it in items if it not in graded and it not in on_book and it not in on_job] + on_book \
+        + on_job + graded
     wanted = {name for it in items for name in getattr(it, "fixturenames", ())}
-    if on_book or graded:
+    if on_book or on_job or graded:
         _start_book()
         from concurrent.futures import ThreadPoolExecutor
 
@@ -452,6 +460,8 @@ def pytest_collection_modifyitems(session, config, items):
         pool.shutdown(wait=False)
     if graded:
         _start_grading(wanted)
+    if on_book or on_job or graded:
+        _yield_to_the_critical_path(MAIN_NICE)
 
 
 def book_result():
