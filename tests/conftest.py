@@ -209,6 +209,18 @@ def assert_legible(fig, min_pt: float = 9.0, max_width: float = 7.4):
     assert not small, f"texts below {min_pt} pt: {small[:5]}"
 
 
+def legend_under_axes(fig, ax) -> bool:
+    """Whether ``ax``'s legend, as drawn (Agg), sits under the axes and inside the figure (a PNG of
+    the figure's size would cut off a legend below its edge)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    r = canvas.get_renderer()
+    legend = ax.get_legend().get_window_extent(r)
+    return legend.y1 < ax.get_window_extent(r).y0 and legend.y0 >= fig.bbox.y0 - 1
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)

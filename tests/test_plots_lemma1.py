@@ -8,7 +8,7 @@ import orrc
 from orrc import certify, checks
 from orrc.viz import theory_plots
 
-from conftest import assert_legible
+from conftest import assert_legible, legend_under_axes
 
 
 @pytest.fixture(scope="module")
@@ -101,7 +101,6 @@ def test_horizon_threshold_shades_where_M_exceeds_the_requirement():
 def test_horizon_threshold_keeps_its_legend_off_the_curves():
     """The legend sits under the axes in the wide and the phone's rendering: in the lower right
     corner it covered the required horizon's plateau, the curve the text reads."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from orrc.viz.figures import narrowed
 
@@ -109,17 +108,9 @@ def test_horizon_threshold_keeps_its_legend_off_the_curves():
     fig = theory_plots.horizon_threshold(Ms, np.sqrt(np.minimum(Ms, 18.0)), 1.0, M_star=19)
     ax = fig.axes[0]
 
-    def legend_under_axes():
-        canvas = FigureCanvasAgg(fig)
-        canvas.draw()
-        r = canvas.get_renderer()
-        legend = ax.get_legend().get_window_extent(r)
-        # under the axes, and inside the figure (a PNG of the figure's size would cut it off)
-        return legend.y1 < ax.get_window_extent(r).y0 and legend.y0 >= fig.bbox.y0 - 1
-
-    assert legend_under_axes()
+    assert legend_under_axes(fig, ax)
     with narrowed(fig):
-        assert legend_under_axes()
+        assert legend_under_axes(fig, ax)
 
 
 def test_lemma1_check_draws_the_margins(lemma1_run):

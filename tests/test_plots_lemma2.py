@@ -4,6 +4,8 @@ raises a ValueError naming the argument."""
 import matplotlib.colors as mcolors
 import numpy as np
 import pytest
+
+from conftest import legend_under_axes
 from matplotlib.figure import Figure
 
 import orrc
@@ -50,7 +52,6 @@ def test_coefficients_plot_draws_the_papers_coefficients_and_the_three_bands():
 def test_coefficients_plot_keeps_its_legend_off_the_curves():
     """A figure of its own puts the legend under the axes, in the wide and the phone's rendering
     (inside, it covered the flat tail that the text reads from right to left)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from orrc.viz.figures import narrowed
 
@@ -59,17 +60,9 @@ def test_coefficients_plot_keeps_its_legend_off_the_curves():
     fig = theory_plots.lemma2_coefficients(coefs, M, H)
     ax = fig.axes[0]
 
-    def legend_under_axes():
-        canvas = FigureCanvasAgg(fig)
-        canvas.draw()
-        r = canvas.get_renderer()
-        legend = ax.get_legend().get_window_extent(r)
-        # under the axes, and inside the figure (a PNG of the figure's size would cut it off)
-        return legend.y1 < ax.get_window_extent(r).y0 and legend.y0 >= fig.bbox.y0 - 1
-
-    assert legend_under_axes()
+    assert legend_under_axes(fig, ax)
     with narrowed(fig):
-        assert legend_under_axes()
+        assert legend_under_axes(fig, ax)
 
 
 def test_coefficients_plot_rejects_bad_input():

@@ -5,6 +5,8 @@ import math
 
 import numpy as np
 import pytest
+
+from conftest import legend_under_axes
 from matplotlib.figure import Figure
 
 import orrc
@@ -166,7 +168,6 @@ def test_adversary_draws_the_worst_disturbance_and_its_cost(scalar):
 def test_adversary_legend_covers_no_curve(scalar):
     """One legend, under the axes of the costs, in the wide and the phone's rendering (inside the
     panels it sat on the humps of the worst disturbance and of its cost)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from orrc.viz.figures import narrowed
 
@@ -177,16 +178,9 @@ def test_adversary_legend_covers_no_curve(scalar):
     ax, ax2 = fig.axes[:2]
     assert ax.get_legend() is None
 
-    def legend_under_axes():
-        canvas = FigureCanvasAgg(fig)
-        canvas.draw()
-        r = canvas.get_renderer()
-        legend = ax2.get_legend().get_window_extent(r)
-        return legend.y1 < ax2.get_window_extent(r).y0 and legend.y0 >= fig.bbox.y0 - 1
-
-    assert legend_under_axes()
+    assert legend_under_axes(fig, ax2)
     with narrowed(fig):
-        assert legend_under_axes()
+        assert legend_under_axes(fig, ax2)
 
 
 def test_adversary_rejects_bad_input():
