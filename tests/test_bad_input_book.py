@@ -1,6 +1,8 @@
 """Bad input to the book's tools (orrc.viz.figures, orrc.viz.glue, orrc.viz.explore, the constants and
 margins tables, tools.build_book): a clear orrc.OrrcValueError naming the argument, never a
 traceback from deep inside matplotlib."""
+import os
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -107,17 +109,18 @@ def test_bad_input_is_refused_with_a_clear_message(call, exc, words):
     assert_bad_input(call, exc, words)
 
 
-def test_every_build_sets_the_book_build_signal(monkeypatch, tmp_path):
+def test_every_build_sets_the_book_build_signal(tmp_path):
     """tools.build_book.build runs jupyter-book with ORRC_BOOK_BUILD=1 (what orrc.config.book_build
     reads), for the published book, the test build and the solution-free edition alike."""
     import tools.build_book as bb
 
-    seen = {}
-    monkeypatch.delenv("ORRC_BOOK_BUILD", raising=False)
-    monkeypatch.setattr(bb.subprocess, "call", lambda cmd, cwd, env: seen.setdefault("env", env) and 1)
-    assert bb.build(tmp_path, extra_env={"ORRC_QUICK": "1"}) == 1
-    assert seen["env"]["ORRC_BOOK_BUILD"] == "1" and seen["env"]["ORRC_QUICK"] == "1"
-    assert "ORRC_BOOK_BUILD" not in __import__("os").environ     # only the build's environment
+    # the commands go to a runner of the test's own: the session's book build runs beside this test,
+    # in another thread, with the real subprocess.call (patching the module would hand it the fake)
+    seen, before = [], os.environ.get("ORRC_BOOK_BUILD")
+    assert bb.build(tmp_path, extra_env={"ORRC_QUICK": "1"}, run=lambda cmd, **kw: seen.append(kw["env"]) or 1) == 1
+    assert len(seen) == 2, "the chapters' execution and jupyter-book, each with the build's environment"
+    assert all(env["ORRC_BOOK_BUILD"] == "1" and env["ORRC_QUICK"] == "1" for env in seen)
+    assert os.environ.get("ORRC_BOOK_BUILD") == before     # set in the build's environment only
 
 
 def test_a_test_size_build_is_refused_in_the_published_folder(monkeypatch):

@@ -84,14 +84,17 @@ def kernel_for(python: Path, folder: Path) -> Path:
 
 
 def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT,
-          kernel_python: Path | None = None, cache: Path | None = None, log: Path | None = None) -> int:
+          kernel_python: Path | None = None, cache: Path | None = None, log: Path | None = None,
+          run=subprocess.call) -> int:
     """Build the book in ``source`` into ``out/_build``; return jupyter-book's exit code.
 
     ``kernel_python``: the Python whose kernel executes the chapters (default: this environment's),
     e.g. that of a fresh environment built from what a chapter's download installs; each chapter
     runs in a temporary folder (``run_in_temp`` in ``_config.yml``) either way.
 
-    ``log``: a file for everything the build prints (default: this process's output).
+    ``log``: a file for everything the build prints (default: this process's output). ``run``:
+    what runs each command, with :func:`subprocess.call`'s signature (a check passes its own
+    instead of patching the module that other threads use).
 
     ``cache``: a Jupyter cache that already holds the executed chapters, the one ``_config.yml``
     names (the solution-free edition's, filled from the normal build): nothing is executed first,
@@ -123,11 +126,10 @@ def build(out: Path = ROOT, extra_env: dict | None = None, source: Path = ROOT,
             shutil.rmtree(cache, ignore_errors=True)  # never a stale output
             # every chapter executed into the cache first, one per core (tools/execute_chapters.py): the
             # build then reads each from the cache instead of executing the chapters one after the other
-            subprocess.call([sys.executable, "-m", "tools.execute_chapters", str(cache)], cwd=source, env=env,
-                            **streams)
+            run([sys.executable, "-m", "tools.execute_chapters", str(cache)], cwd=source, env=env, **streams)
         cmd = [str(Path(sys.executable).parent / "jupyter-book"), "build", str(source), "--path-output", str(out),
                "--builder", "html", "--all", "-n", "-W", "--keep-going"]
-        rc = subprocess.call(cmd, cwd=source, env=env, **streams)
+        rc = run(cmd, cwd=source, env=env, **streams)
     write_executed(cache, Path(out) / "_build" / "jupyter_execute", source)
     if rc == 0:
         stamp.write_text(json.dumps({"digest": digest, "quick": is_quick(env)}, indent=1))
