@@ -335,10 +335,6 @@ _BUILT = {}
 # book build leave, at a lower priority (a nice value higher by GRADING_NICE), instead of slowing both.
 # Linux gives each thread its nice value and every thread and process it starts inherits it.
 GRADING_NICE = 5
-# The tests of the main thread give way to the book's build and the jobs that read it (the critical
-# path), and take the cores those leave: once every background job is started, the main thread's nice
-# value goes up by MAIN_NICE (the jobs' threads, already started, keep theirs; the gradings stay below).
-MAIN_NICE = 3
 
 
 def _yield_to_the_critical_path(by: int = GRADING_NICE):
@@ -472,8 +468,6 @@ def pytest_collection_modifyitems(session, config, items):
         pool.shutdown(wait=False)
     if graded:
         _start_grading(wanted)
-    if on_book or on_job or graded:
-        _yield_to_the_critical_path(MAIN_NICE)
 
 
 def book_result():

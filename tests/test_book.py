@@ -45,6 +45,7 @@ from tools.toc import notebook_pages, toc_pages
 ROOT = Path(__file__).resolve().parents[1]
 MAX_PAGE_BYTES = 3_000_000
 WIDTHS = (1366, 390)
+SHOT_PART = 60_000   # px of page per screenshot (a JPEG holds at most 65,535 px)
 
 pytestmark = pytest.mark.slow
 
@@ -562,11 +563,14 @@ async def check_page(chromium, page: str) -> None:
             await pg.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
             # caret="initial": no text caret to hide on these pages, and hiding it (the default) restyles
             # the whole page twice, a stylesheet put in and taken out (0.1 to 0.4 s a screenshot of a tall page)
-            shot = SHOTS / f"{page_id(page)}-{width}.jpg"
-            await pg.screenshot(path=str(shot), full_page=True, quality=85, caret="initial")
-            # a page past what one JPEG holds (65,535 px) gives an empty file, and no picture to look at
+            # a page taller than one JPEG holds (65,535 px; the API reference's longest pages on a phone)
+            # is taken in parts, <page>-<width>-2.jpg and on, each checked not empty
             tall = await pg.evaluate("() => document.documentElement.scrollHeight")
-            assert shot.stat().st_size > 0, f"{page} at {width} px: an empty screenshot; the page is {tall} px tall"
+            for part, top in enumerate(range(0, tall, SHOT_PART)):
+                shot = SHOTS / (f"{page_id(page)}-{width}.jpg" if part == 0 else f"{page_id(page)}-{width}-{part + 1}.jpg")
+                clip = {"x": 0, "y": top, "width": width, "height": min(SHOT_PART, tall - top)}
+                await pg.screenshot(path=str(shot), full_page=True, clip=clip, quality=85, caret="initial")
+                assert shot.stat().st_size > 0, f"{page} at {width} px: an empty screenshot ({shot.name}, page {tall} px tall)"
             # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
             overflow = await pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
             assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
