@@ -8,6 +8,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float
+from ..checks import Margins
 from ._unknown_common import _COLORS, _decade, _dict, _fig, _style, _vector
 
 __all__ = ["lipschitz_quotients", "lemma4_terms", "loss_vs_error"]
@@ -97,8 +98,6 @@ def lemma4_terms(margins, theta_part: float, title: str | None = None) -> Figure
     >>> fig.axes[0].get_yscale()
     'symlog'
     """
-    from ..checks import Margins
-
     if not isinstance(margins, Margins):
         raise OrrcValueError(f"margins must be orrc.checks.Margins; got {type(margins).__name__}")
     theta_part = as_float("theta_part", theta_part, minimum=0.0)

@@ -8,6 +8,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_float
+from ..checks import Lemma1Margins, Margins
+from ..simulate import Trajectory
 from .style import _figure, _nonempty_dict
 from .theory_plots import lemma1_check
 
@@ -58,8 +60,6 @@ def lemma6_check(lemma6, value_bound=None, title: str | None = None, fast: bool 
     >>> len(fig.axes)
     2
     """
-    from ..checks import Lemma1Margins
-
     if not isinstance(lemma6, Lemma1Margins):
         raise OrrcValueError(f"lemma6 must be the result of orrc.checks.lemma6_margins; got {type(lemma6).__name__}")
     return lemma1_check(lemma6, value_bound, title=title, fast=fast, stacked=True, labels={
@@ -111,9 +111,6 @@ def theorem3_growth(runs: dict, gamma: float, w_max_sq: float, title: str | None
     >>> fig.axes[0].get_yscale()
     'log'
     """
-    from ..checks import Margins
-    from ..simulate import Trajectory
-
     runs = _nonempty_dict("runs", runs, "(Trajectory, Margins)")
     gamma = as_float("gamma", gamma, minimum=0.0)
     w_max_sq = as_float("w_max_sq", w_max_sq, minimum=0.0)

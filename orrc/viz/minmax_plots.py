@@ -23,6 +23,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array, as_float, as_int
+from ..certify import Constants, MinMaxConstants
+from ..solvers.minmax import MinMaxPlan
 from .lemma6_plots import _legend_below, lemma6_check, theorem3_growth  # noqa: F401 (Lemma 6, Theorem 3)
 from .style import _figure, _nonempty_dict, _trajs, controller_color
 from .theory_plots import _message
@@ -31,8 +33,6 @@ __all__ = ["bounds_history", "minmax_pareto", "lemma6_check", "theorem3_growth",
 
 
 def _plans(plans) -> dict:
-    from ..solvers.minmax import MinMaxPlan
-
     plans = _nonempty_dict("plans", plans, "MinMaxPlan")
     for k, p in plans.items():
         if not isinstance(p, MinMaxPlan):
@@ -137,8 +137,6 @@ def minmax_pareto(constants, preview=None, title: str | None = None) -> Figure:
     >>> fig.axes[0].get_xscale(), fig.axes[0].get_yscale()
     ('log', 'log')
     """
-    from ..certify import Constants, MinMaxConstants
-
     if not isinstance(constants, MinMaxConstants):
         raise OrrcValueError(f"constants must be orrc.certify.MinMaxConstants (minmax_constants); got "
                              f"{type(constants).__name__}")

@@ -8,9 +8,17 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._validate import OrrcValueError, as_array
+from ..tradeoff import Tradeoff
 from ._unknown_common import _COLORS, _decade, _dict, _fig, _style
 
+
 __all__ = ["theorem2_parts", "excess_vs_T", "tradeoff_curves", "best_N"]
+
+
+def _check_tradeoff(tradeoff) -> None:
+    """An OrrcValueError unless ``tradeoff`` is what :func:`orrc.tradeoff.exploration_tradeoff` returns."""
+    if not isinstance(tradeoff, Tradeoff):
+        raise OrrcValueError(f"tradeoff must be an orrc.tradeoff.Tradeoff; got {type(tradeoff).__name__}")
 
 
 def theorem2_parts(Ts, parts: dict, actual, title: str | None = None) -> Figure:
@@ -119,10 +127,7 @@ def tradeoff_curves(tradeoff, Ts, title: str | None = None) -> Figure:
     >>> fig.axes[0].get_xscale(), fig.axes[0].get_yscale()
     ('log', 'log')
     """
-    from ..tradeoff import Tradeoff
-
-    if not isinstance(tradeoff, Tradeoff):
-        raise OrrcValueError(f"tradeoff must be an orrc.tradeoff.Tradeoff; got {type(tradeoff).__name__}")
+    _check_tradeoff(tradeoff)
     Ts = as_array("Ts", Ts, ndim=1)
     fig, (ax,) = _fig(1, 4.8)   # the legend below the axes
     grid = np.geomspace(tradeoff.Ns[0], tradeoff.Ns[-1], 300)
@@ -165,10 +170,7 @@ def best_N(tradeoff, Ts, title: str | None = None) -> Figure:
     >>> fig.axes[0].get_xlabel()
     'T'
     """
-    from ..tradeoff import Tradeoff
-
-    if not isinstance(tradeoff, Tradeoff):
-        raise OrrcValueError(f"tradeoff must be an orrc.tradeoff.Tradeoff; got {type(tradeoff).__name__}")
+    _check_tradeoff(tradeoff)
     Ts = as_array("Ts", Ts, ndim=1)
     b = tradeoff.best_N(Ts)
     raw = tradeoff.best_N(Ts, fitted=False)
