@@ -383,41 +383,73 @@ _WIDE_BLOCKS = """() => {
 }"""
 
 
-# every remote request is refused and recorded, so an offline failure shows up here too
-async def _open(chromium, page, width):
-    ctx = await chromium.new_context(viewport={"width": width, "height": 900}, device_scale_factor=1)
-    events = {"errors": [], "remote": []}
+class Tab:
+    """One tab of the session's Chromium that opens page after page: a browser context (its own
+    cookies and storage) whose every remote request is refused and recorded, so an offline failure
+    shows up here too, and the console errors and page errors of the page it shows. One tab serves
+    many pages: its renderer process, and the scripts it has compiled (MathJax, the theme's), are
+    reused, as in a reader's browser (a new context per page doubled the cost of opening one)."""
 
-    async def on_route(route):
-        url = route.request.url
-        if url.startswith(("file:", "data:", "blob:")):
-            await route.continue_()
-        else:
-            events["remote"].append(url)
-            await route.abort()
+    @classmethod
+    async def new(cls, chromium) -> "Tab":
+        tab = cls()
+        tab.events = {"errors": [], "remote": []}
+        tab.ctx = await chromium.new_context(viewport={"width": WIDTHS[0], "height": 900}, device_scale_factor=1)
 
-    await ctx.route("**/*", on_route)
-    pg = await ctx.new_page()
-    pg.on("console", lambda m: events["errors"].append(f"console.{m.type}: {m.text}") if m.type == "error" else None)
-    pg.on("pageerror", lambda e: events["errors"].append(f"page error: {e}"))
-    await pg.goto((HTML / f"{page}.html").as_uri(), wait_until="load")
-    # MathJax typesets after load; wait for it where the page loads it
-    if await pg.evaluate("() => !!document.querySelector('script[src*=\"mathjax\"]')"):
-        from playwright.async_api import TimeoutError as PlaywrightTimeout
+        async def on_route(route):
+            url = route.request.url
+            if url.startswith(("file:", "data:", "blob:")):
+                await route.continue_()
+            else:
+                tab.events["remote"].append(url)
+                await route.abort()
 
-        try:
-            await pg.wait_for_function("() => window.MathJax && MathJax.startup && MathJax.startup.promise",
-                                 timeout=30_000)
-        except PlaywrightTimeout:
-            await ctx.close()
-            raise AssertionError(f"{page}: MathJax never started (refused network requests: {events['remote']}; "
-                                 f"errors: {events['errors']})") from None
-        await pg.evaluate("() => MathJax.startup.promise")
-    await pg.evaluate("""() => Promise.all(Array.from(document.images).map(img => {
-        img.loading = 'eager';
-        return img.complete ? null : new Promise(r => { img.onload = img.onerror = r; });
-    }))""")
-    return ctx, pg, events
+        await tab.ctx.route("**/*", on_route)
+        tab.pg = await tab.ctx.new_page()
+        tab.pg.on("console", lambda m: tab.events["errors"].append(f"console.{m.type}: {m.text}")
+                  if m.type == "error" else None)
+        tab.pg.on("pageerror", lambda e: tab.events["errors"].append(f"page error: {e}"))
+        tab.cdp = await tab.ctx.new_cdp_session(tab.pg)
+        return tab
+
+    async def open(self, page: str, width: int):
+        """Show ``page`` at ``width`` px, its math typeset and its images loaded; returns the page
+        (Playwright's) and the events recorded since (remote requests, errors)."""
+        pg, events = self.pg, self.events
+        events["errors"].clear()
+        events["remote"].clear()
+        await pg.set_viewport_size({"width": width, "height": 900})
+        await pg.goto((HTML / f"{page}.html").as_uri(), wait_until="load")
+        # MathJax typesets after load; wait for it where the page loads it
+        if await pg.evaluate("() => !!document.querySelector('script[src*=\"mathjax\"]')"):
+            from playwright.async_api import TimeoutError as PlaywrightTimeout
+
+            try:
+                await pg.wait_for_function("() => window.MathJax && MathJax.startup && MathJax.startup.promise",
+                                           timeout=30_000)
+            except PlaywrightTimeout:
+                raise AssertionError(f"{page}: MathJax never started (refused network requests: {events['remote']}; "
+                                     f"errors: {events['errors']})") from None
+            await pg.evaluate("() => MathJax.startup.promise")
+        await pg.evaluate("""() => Promise.all(Array.from(document.images).map(img => {
+            img.loading = 'eager';
+            return img.complete ? null : new Promise(r => { img.onload = img.onerror = r; });
+        }))""")
+        return pg, events
+
+    async def screenshot(self, path: Path, clip: dict) -> None:
+        """A JPEG of the part ``clip`` (page coordinates, px) of the page as laid out now, to ``path``:
+        Chromium's own capture beyond the viewport (the DevTools protocol), which neither resizes the
+        page nor restyles it (Playwright's full-page screenshot hides the caret with a stylesheet put
+        in and taken out: about a fifth more CPU on a tall page)."""
+        import base64
+
+        shot = await self.cdp.send("Page.captureScreenshot", {
+            "format": "jpeg", "quality": 85, "captureBeyondViewport": True, "clip": {**clip, "scale": 1}})
+        Path(path).write_bytes(base64.b64decode(shot["data"]))
+
+    async def close(self):
+        await self.ctx.close()
 
 
 MIN_SHOWN_DPI = 99.5   # 100 px per figure inch, less a rounding of the layout
@@ -487,19 +519,26 @@ def check_the_pages_in_the_browser(book) -> dict:
 
     async def run_all() -> dict:
         results: dict = {}
-        gate = asyncio.Semaphore(PARALLEL_PAGES)
         async with async_playwright() as p:
             browser = await p.chromium.launch(executable_path=path, args=["--no-sandbox", "--disable-gpu"])
+            tabs: asyncio.Queue = asyncio.Queue()   # one tab per page checked at once, each reused
+            for _ in range(PARALLEL_PAGES):
+                tabs.put_nowait(await Tab.new(browser))
 
             async def one(page):
-                async with gate:
-                    try:
-                        await check_page(browser, page)
-                        results[page] = None
-                    except AssertionError as exc:
-                        results[page] = str(exc)
-                    except Exception as exc:   # noqa: BLE001 - a Playwright error fails that page's test
-                        results[page] = f"{type(exc).__name__}: {exc}"
+                tab = await tabs.get()
+                try:
+                    await check_page(tab, page)
+                    results[page] = None
+                except AssertionError as exc:
+                    results[page] = str(exc)
+                except Exception as exc:   # noqa: BLE001 - a Playwright error fails that page's test
+                    results[page] = f"{type(exc).__name__}: {exc}"
+                    # the tab may be broken (a crashed renderer): the next page gets a new one
+                    await tab.close()
+                    tab = await Tab.new(browser)
+                finally:
+                    tabs.put_nowait(tab)
 
             try:
                 await asyncio.gather(*(one(page) for page in PAGES))
@@ -529,127 +568,122 @@ def test_page_in_a_real_browser(browser_pages, book, page):
     assert problem is None, problem
 
 
-async def check_page(chromium, page: str) -> None:
-    """Every check of a page in the browser (see the module's docstring); raises AssertionError
-    with the first problem. ``chromium``: a browser of Playwright's async API."""
-    ctx, pg, events = await _open(chromium, page, WIDTHS[0])
-    try:
-        # math typeset: every math node became a MathJax container, no raw TeX left in the text
-        untypeset = await pg.evaluate("() => Array.from(document.querySelectorAll('span.math, div.math'))"
-                                ".filter(e => !e.querySelector('mjx-container')).map(e => e.textContent.slice(0, 60))")
-        assert not untypeset, f"{page}: math not typeset: {untypeset[:5]}"
-        if await pg.locator("span.math, div.math").count():
-            assert await pg.locator("mjx-container [data-mjx-error], mjx-merror").count() == 0, f"{page}: TeX errors"
-        text = await pg.evaluate(_TEXT_OUTSIDE_CODE)
-        for raw in ("$$", "\\(", "\\[", "\\begin{"):
-            assert raw not in text, f"{page}: raw TeX {raw!r} left in the rendered text"
+async def check_page(tab: Tab, page: str) -> None:
+    """Every check of a page in the browser (see the module's docstring), in ``tab``; raises
+    AssertionError with the first problem."""
+    pg, events = await tab.open(page, WIDTHS[0])
+    # math typeset: every math node became a MathJax container, no raw TeX left in the text
+    untypeset = await pg.evaluate("() => Array.from(document.querySelectorAll('span.math, div.math'))"
+                            ".filter(e => !e.querySelector('mjx-container')).map(e => e.textContent.slice(0, 60))")
+    assert not untypeset, f"{page}: math not typeset: {untypeset[:5]}"
+    if await pg.locator("span.math, div.math").count():
+        assert await pg.locator("mjx-container [data-mjx-error], mjx-merror").count() == 0, f"{page}: TeX errors"
+    text = await pg.evaluate(_TEXT_OUTSIDE_CODE)
+    for raw in ("$$", "\\(", "\\[", "\\begin{"):
+        assert raw not in text, f"{page}: raw TeX {raw!r} left in the rendered text"
 
-        # every image has loaded
-        broken = await pg.evaluate("() => Array.from(document.images)"
-                             ".filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src.slice(0, 80))")
-        assert not broken, f"{page}: images not loaded: {broken}"
+    # every image has loaded
+    broken = await pg.evaluate("() => Array.from(document.images)"
+                         ".filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src.slice(0, 80))")
+    assert not broken, f"{page}: images not loaded: {broken}"
 
-        # no cell shows an error
-        assert await pg.locator(".cell_output .output.traceback, .output.error").count() == 0, f"{page}: a cell error"
-        for err in await pg.locator(".cell_output .output.stderr").all_inner_texts():
-            assert "Traceback" not in err and not re.search(r"\b\w*Error\b", err), f"{page}: stderr {err[:200]}"
+    # no cell shows an error
+    assert await pg.locator(".cell_output .output.traceback, .output.error").count() == 0, f"{page}: a cell error"
+    for err in await pg.locator(".cell_output .output.stderr").all_inner_texts():
+        assert "Traceback" not in err and not re.search(r"\b\w*Error\b", err), f"{page}: stderr {err[:200]}"
 
-        # screenshots at a laptop and a phone width
-        SHOTS.mkdir(parents=True, exist_ok=True)
-        for width in WIDTHS:  # taken before the sliders are touched, so the page is as a reader first sees it
-            await pg.set_viewport_size({"width": width, "height": 900})
-            await pg.evaluate("() => window.scrollTo(0, 0)")  # sticky sidebars are drawn where the page is scrolled
-            # two animation frames: the new width laid out and painted before the picture
-            await pg.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
-            # caret="initial": no text caret to hide on these pages, and hiding it (the default) restyles
-            # the whole page twice, a stylesheet put in and taken out (0.1 to 0.4 s a screenshot of a tall page)
-            # a page taller than one JPEG holds (65,535 px; the API reference's longest pages on a phone)
-            # is taken in parts, <page>-<width>-2.jpg and on, each checked not empty
-            tall = await pg.evaluate("() => document.documentElement.scrollHeight")
-            for part, top in enumerate(range(0, tall, SHOT_PART)):
-                shot = SHOTS / (f"{page_id(page)}-{width}.jpg" if part == 0 else f"{page_id(page)}-{width}-{part + 1}.jpg")
-                clip = {"x": 0, "y": top, "width": width, "height": min(SHOT_PART, tall - top)}
-                await pg.screenshot(path=str(shot), full_page=True, clip=clip, quality=85, caret="initial")
-                assert shot.stat().st_size > 0, f"{page} at {width} px: an empty screenshot ({shot.name}, page {tall} px tall)"
-            # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
-            overflow = await pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
-            assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
-            # every block wider than its box scrolls in it, with a visible cue, and takes keyboard focus
-            await pg.evaluate("() => window.orrcMarkOverflow && window.orrcMarkOverflow()")
-            wide = await pg.evaluate(_WIDE_BLOCKS)
-            too_wide = [b for b in wide if b["kind"] == "table" or width >= 1366]
-            assert not too_wide, f"{page} at {width} px: wider than the text column ({len(too_wide)}): {too_wide[:3]}"
-            for box in await pg.evaluate(_OVERFLOWING):
-                assert box["overflowX"] in ("auto", "scroll"), f"{page} at {width} px: clipped, no scrolling: {box}"
-                assert box["cue"] and box["shadow"] != "none", f"{page} at {width} px: scrolls without a cue: {box}"
-                assert box["tabindex"] == "0" and box["label"], f"{page} at {width} px: not keyboard-scrollable: {box}"
-            # at a laptop's width a name in the API reference's summary tables stays on one line
-            if width == WIDTHS[0]:
-                broken = await pg.evaluate("() => Array.from(document.querySelectorAll("
-                                           "'table.autosummary td:first-child code'))"
-                                           ".filter(c => c.getClientRects().length > 1).map(c => c.textContent)")
-                assert not broken, f"{page} at {width} px: names broken across lines: {broken[:5]}"
-            # the map of the results keeps its labels legible (9.5 pt drawn in a figure about 700 px wide:
-            # at least 600 px shown, scrolling in its own box on a phone)
-            maps = await pg.evaluate("() => Array.from(document.querySelectorAll('svg.orrc-results-map'))"
-                                     ".map(s => s.getBoundingClientRect().width)")
-            assert all(w >= 600 for w in maps), f"{page} at {width} px: the map of the results is shown {maps} px wide"
-            # the accessibility audit: no serious or critical violation (report beside the screenshots).
-            # Once a page: axe's cost is building its model of the whole document (a few seconds on a page
-            # of 13,000 elements, whatever the rules), and the document, its roles, names and colours are
-            # the same at both widths; what the width changes (boxes that scroll, their cue, focus and
-            # label, nothing wider than the screen) is checked at both widths above.
-            if width == WIDTHS[0]:
-                bad = await axe_audit(pg, page, width)
-                assert not bad, f"{page} at {width} px: axe-core: " + "; ".join(
-                    f"{v['impact']} {v['id']} ({v['help']}): {[n['target'] for n in v['nodes'][:3]]}" for v in bad)
-            # every figure legible: shown at >= 100 px per figure inch (its fonts of >= 9 pt at >= 12.5 px)
-            # and inside the screen
-            for fig in await pg.evaluate(_SHOWN_IMAGES):
-                dpi = png_dpi(image_bytes(fig["src"], page))
-                assert dpi is not None, f"{page}: an image without a resolution (not a figure PNG?): {fig['src'][:60]}"
-                shown = dpi * fig["shown"] / fig["natural"]
-                assert shown >= MIN_SHOWN_DPI, (
-                    f"{page} at {width} px: a figure {fig['natural']} px wide ({fig['natural'] / dpi:.1f} in) is shown "
-                    f"{fig['shown']:.0f} px wide, {shown:.0f} px per inch (at least {MIN_SHOWN_DPI}): its 9 pt fonts "
-                    f"would be {9 / 72 * shown:.1f} px; draw it narrower or give it a narrow variant")
-                assert fig["right"] <= width + 0.5, f"{page} at {width} px: a figure overflows to {fig['right']:.0f} px"
+    # screenshots at a laptop and a phone width
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    for width in WIDTHS:  # taken before the sliders are touched, so the page is as a reader first sees it
+        await pg.set_viewport_size({"width": width, "height": 900})
+        await pg.evaluate("() => window.scrollTo(0, 0)")  # sticky sidebars are drawn where the page is scrolled
+        # two animation frames: the new width laid out and painted before the picture
+        await pg.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+        # a page taller than one JPEG holds (65,535 px; the API reference's longest pages on a phone)
+        # is taken in parts, <page>-<width>-2.jpg and on, each checked not empty
+        tall = await pg.evaluate("() => document.documentElement.scrollHeight")
+        for part, top in enumerate(range(0, tall, SHOT_PART)):
+            shot = SHOTS / (f"{page_id(page)}-{width}.jpg" if part == 0 else f"{page_id(page)}-{width}-{part + 1}.jpg")
+            clip = {"x": 0, "y": top, "width": width, "height": min(SHOT_PART, tall - top)}
+            await tab.screenshot(shot, clip)
+            assert shot.stat().st_size > 0, f"{page} at {width} px: an empty screenshot ({shot.name}, page {tall} px tall)"
+        # nothing makes the whole page scroll sideways (wide equations and tables scroll in their own box)
+        overflow = await pg.evaluate("() => document.documentElement.scrollWidth - document.documentElement.clientWidth")
+        assert overflow <= 1, f"{page}: the page is {overflow}px wider than a {width}px screen"
+        # every block wider than its box scrolls in it, with a visible cue, and takes keyboard focus
+        await pg.evaluate("() => window.orrcMarkOverflow && window.orrcMarkOverflow()")
+        wide = await pg.evaluate(_WIDE_BLOCKS)
+        too_wide = [b for b in wide if b["kind"] == "table" or width >= 1366]
+        assert not too_wide, f"{page} at {width} px: wider than the text column ({len(too_wide)}): {too_wide[:3]}"
+        for box in await pg.evaluate(_OVERFLOWING):
+            assert box["overflowX"] in ("auto", "scroll"), f"{page} at {width} px: clipped, no scrolling: {box}"
+            assert box["cue"] and box["shadow"] != "none", f"{page} at {width} px: scrolls without a cue: {box}"
+            assert box["tabindex"] == "0" and box["label"], f"{page} at {width} px: not keyboard-scrollable: {box}"
+        # at a laptop's width a name in the API reference's summary tables stays on one line
+        if width == WIDTHS[0]:
+            broken = await pg.evaluate("() => Array.from(document.querySelectorAll("
+                                       "'table.autosummary td:first-child code'))"
+                                       ".filter(c => c.getClientRects().length > 1).map(c => c.textContent)")
+            assert not broken, f"{page} at {width} px: names broken across lines: {broken[:5]}"
+        # the map of the results keeps its labels legible (9.5 pt drawn in a figure about 700 px wide:
+        # at least 600 px shown, scrolling in its own box on a phone)
+        maps = await pg.evaluate("() => Array.from(document.querySelectorAll('svg.orrc-results-map'))"
+                                 ".map(s => s.getBoundingClientRect().width)")
+        assert all(w >= 600 for w in maps), f"{page} at {width} px: the map of the results is shown {maps} px wide"
+        # the accessibility audit: no serious or critical violation (report beside the screenshots).
+        # Once a page: axe's cost is building its model of the whole document (a few seconds on a page
+        # of 13,000 elements, whatever the rules), and the document, its roles, names and colours are
+        # the same at both widths; what the width changes (boxes that scroll, their cue, focus and
+        # label, nothing wider than the screen) is checked at both widths above.
+        if width == WIDTHS[0]:
+            bad = await axe_audit(pg, page, width)
+            assert not bad, f"{page} at {width} px: axe-core: " + "; ".join(
+                f"{v['impact']} {v['id']} ({v['help']}): {[n['target'] for n in v['nodes'][:3]]}" for v in bad)
+        # every figure legible: shown at >= 100 px per figure inch (its fonts of >= 9 pt at >= 12.5 px)
+        # and inside the screen
+        for fig in await pg.evaluate(_SHOWN_IMAGES):
+            dpi = png_dpi(image_bytes(fig["src"], page))
+            assert dpi is not None, f"{page}: an image without a resolution (not a figure PNG?): {fig['src'][:60]}"
+            shown = dpi * fig["shown"] / fig["natural"]
+            assert shown >= MIN_SHOWN_DPI, (
+                f"{page} at {width} px: a figure {fig['natural']} px wide ({fig['natural'] / dpi:.1f} in) is shown "
+                f"{fig['shown']:.0f} px wide, {shown:.0f} px per inch (at least {MIN_SHOWN_DPI}): its 9 pt fonts "
+                f"would be {9 / 72 * shown:.1f} px; draw it narrower or give it a narrow variant")
+            assert fig["right"] <= width + 0.5, f"{page} at {width} px: a figure overflows to {fig['right']:.0f} px"
 
-        # every frame slider flips its figure (both renderings, wide and narrow)
-        frames = pg.locator("div.orrc-frames")
-        for i in range(await frames.count()):
-            box = frames.nth(i)
-            imgs = box.locator("img.orrc-frame")
-            assert await imgs.count() in (1, 2) and await box.locator("input.orrc-slider").count() >= 1
-            handles = [await imgs.nth(k).element_handle() for k in range(await imgs.count())]
-            for j in range(await box.locator("input.orrc-slider").count()):
-                slider = box.locator("input.orrc-slider").nth(j)
-                top = int(await slider.get_attribute("max"))
-                if top == 0:
-                    continue
-                before = [await h.get_attribute("src") for h in handles]
-                before_alt = [await h.get_attribute("alt") for h in handles]
-                before_label = await box.locator("output").nth(j).inner_text()
-                start = int(await slider.input_value())
-                await slider.fill(str(top if start != top else 0))
-                for h, src in zip(handles, before):
-                    await pg.wait_for_function("([el, s]) => el.src !== s", arg=[h, src], timeout=5_000)
-                    assert await pg.evaluate("(el) => el.naturalWidth > 0", h), f"{page}: new frame broken"
-                assert await box.locator("output").nth(j).inner_text() != before_label, f"{page}: label did not follow"
-                # the text alternative follows the frame: the new frame's parameter value is in it
-                name, label = await slider.get_attribute("data-name"), await box.locator("output").nth(j).inner_text()
-                for h, alt in zip(handles, before_alt):
-                    now = await h.get_attribute("alt")
-                    assert now != alt and f"{name} = {label}" in now, (
-                        f"{page}: the image's text alternative did not follow the slider ({name} = {label}): {now[:120]}")
-                await slider.fill(str(start))  # and back
-                for h, src in zip(handles, before):
-                    await pg.wait_for_function("([el, s]) => el.src === s", arg=[h, src], timeout=5_000)
+    # every frame slider flips its figure (both renderings, wide and narrow)
+    frames = pg.locator("div.orrc-frames")
+    for i in range(await frames.count()):
+        box = frames.nth(i)
+        imgs = box.locator("img.orrc-frame")
+        assert await imgs.count() in (1, 2) and await box.locator("input.orrc-slider").count() >= 1
+        handles = [await imgs.nth(k).element_handle() for k in range(await imgs.count())]
+        for j in range(await box.locator("input.orrc-slider").count()):
+            slider = box.locator("input.orrc-slider").nth(j)
+            top = int(await slider.get_attribute("max"))
+            if top == 0:
+                continue
+            before = [await h.get_attribute("src") for h in handles]
+            before_alt = [await h.get_attribute("alt") for h in handles]
+            before_label = await box.locator("output").nth(j).inner_text()
+            start = int(await slider.input_value())
+            await slider.fill(str(top if start != top else 0))
+            for h, src in zip(handles, before):
+                await pg.wait_for_function("([el, s]) => el.src !== s", arg=[h, src], timeout=5_000)
+                assert await pg.evaluate("(el) => el.naturalWidth > 0", h), f"{page}: new frame broken"
+            assert await box.locator("output").nth(j).inner_text() != before_label, f"{page}: label did not follow"
+            # the text alternative follows the frame: the new frame's parameter value is in it
+            name, label = await slider.get_attribute("data-name"), await box.locator("output").nth(j).inner_text()
+            for h, alt in zip(handles, before_alt):
+                now = await h.get_attribute("alt")
+                assert now != alt and f"{name} = {label}" in now, (
+                    f"{page}: the image's text alternative did not follow the slider ({name} = {label}): {now[:120]}")
+            await slider.fill(str(start))  # and back
+            for h, src in zip(handles, before):
+                await pg.wait_for_function("([el, s]) => el.src === s", arg=[h, src], timeout=5_000)
 
-        assert not events["remote"], f"{page}: requested from the network: {events['remote']}"
-        assert not events["errors"], f"{page}: " + "\n".join(events["errors"])
-    finally:
-        await ctx.close()
+    assert not events["remote"], f"{page}: requested from the network: {events['remote']}"
+    assert not events["errors"], f"{page}: " + "\n".join(events["errors"])
 
 
 # ---------------------------------------------------------------- search, served over http

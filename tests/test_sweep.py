@@ -238,7 +238,7 @@ def test_exploration_tradeoff_measures_the_same_on_every_backend(client):
     assert len(set(runs[0].loss[:, 0])) == 3, "the seeds differ"
 
 
-# -- the book: a chapter glues the same numbers whatever the backend of its sweeps ----------------------
+# -- the book: a chapter's sweeps give the same tables whatever the backend ----------------------------------
 def _chapters_with_sweeps():
     from conftest import ROOT
     from tools.toc import notebook_pages
@@ -246,40 +246,70 @@ def _chapters_with_sweeps():
     return [ch for ch in notebook_pages() if "orrc.sweep(" in (ROOT / f"{ch}.md").read_text(encoding="utf-8")]
 
 
-def _glued_outputs(nb) -> dict:
-    """name -> text of every value a notebook executed outside the book glued (myst-nb's glue outputs)."""
-    out = {}
-    for cell in nb.cells:
-        for o in cell.get("outputs", []):
-            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
-            if name is not None:
-                out[name] = next(v for k, v in o["data"].items() if k.endswith("text/plain"))
-    return out
+def _sweep_checks(source: str) -> list[str]:
+    """For each ``name = orrc.sweep(...)`` of a cell's source: the code that runs the same sweep serially
+    and fails unless its table is ``name``'s, bit for bit (every value's pickle equal: a float's pickle
+    is its 8 bytes; the rows as a whole are not compared by pickle, which also records which rows share
+    an object)."""
+    import ast
+
+    checks = []
+    for node in ast.walk(ast.parse(source)):
+        if (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)
+                and isinstance(node.value, ast.Call) and ast.unparse(node.value.func) == "orrc.sweep"):
+            call = node.value
+            serial = ast.Call(call.func, call.args, [k for k in call.keywords if k.arg not in ("backend", "client")]
+                              + [ast.keyword("backend", ast.Constant("serial"))])
+            name = node.targets[0].id
+            checks.append(f"import pickle as _pickle\n_serial = {ast.unparse(serial)}\n"
+                          f"_bits = lambda t: [[(k, _pickle.dumps(v)) for k, v in row.items()] for row in t]\n"
+                          f"assert _bits({name}) == _bits(_serial), "
+                          f"'{name}: the table on processes differs from the serial one'")
+    return checks
+
+
+def test_the_sweep_check_runs_each_sweep_serially_and_compares_its_table():
+    import types
+
+    code = 'table = orrc.sweep(levels, {"M": Ms}, backend="auto")\nother = sweep(f, {})'
+    (check,) = _sweep_checks(code)
+    calls = []
+    fake = types.SimpleNamespace(sweep=lambda fn, grid, **kw: calls.append(kw) or [{"M": 1, "g": 0.5}])
+    namespace = {"orrc": fake, "levels": None, "Ms": [1], "table": [{"M": 1, "g": 0.5}]}
+    exec(check, namespace)
+    assert calls == [{"backend": "serial"}]
+    namespace["table"] = [{"M": 1, "g": 0.5 + 2.0 ** -53}]   # the last bit differs
+    with pytest.raises(AssertionError, match="table: the table on processes differs"):
+        exec(check, namespace)
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("chapter", _chapters_with_sweeps())
-def test_a_chapter_glues_the_same_numbers_when_its_sweeps_run_on_processes(book, chapter, monkeypatch):
-    """The test build ran the chapter's sweeps with the default backend ("auto": serially on a loaded
-    machine); executed again with every sweep on worker processes (ORRC_SWEEP_BACKEND=processes), the
-    chapter glues the same numbers, to the last digit."""
+def test_a_chapters_sweeps_give_on_processes_the_tables_they_give_serially(chapter, monkeypatch):
+    """A chapter's sweeps run its own functions (defined in the notebook, sent to the workers by cloudpickle
+    with the systems they read). Its cells run in a kernel up to its last sweep, every sweep on worker
+    processes (ORRC_SWEEP_BACKEND=processes); after each sweep the same sweep runs serially in that kernel,
+    and the two tables are the same, bit for bit. The numbers the chapter glues are computed from these
+    tables, so the chapter glues the same numbers whatever the backend."""
     import jupytext
     from nbclient import NotebookClient
+    from nbformat.v4 import new_code_cell
 
     from conftest import ROOT
-    from test_chapters import glued
 
-    expected = glued(chapter)
     monkeypatch.setenv("ORRC_SWEEP_BACKEND", "processes")
     monkeypatch.setenv("ORRC_QUICK", "1")
     monkeypatch.setenv("ORRC_BOOK_BUILD", "1")
     monkeypatch.setenv("MPLBACKEND", "Agg")
     nb = jupytext.read(ROOT / f"{chapter}.md")
+    cells, last = [], 0   # the code cells, each sweep's check after it; up to the last check
+    for cell in (c for c in nb.cells if c.cell_type == "code"):
+        checks = _sweep_checks(cell.source) if "orrc.sweep(" in cell.source else []
+        cells += [cell, *(new_code_cell(c) for c in checks)]
+        last = len(cells) if checks else last
+    assert last > 0, f"{chapter}: no `name = orrc.sweep(...)` found"
+    nb.cells = cells[:last]
     NotebookClient(nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(ROOT / "book")}}).execute()
-    parallel = _glued_outputs(nb)
-    assert parallel.keys() == expected.keys() and len(parallel) > 0
-    differ = {k: (expected[k], parallel[k]) for k in expected if expected[k] != parallel[k]}
-    assert not differ, f"{chapter}: glued in the build vs with every sweep on processes: {differ}"
 
 
 @pytest.mark.slow

@@ -18,6 +18,7 @@ each public name is documented; ``tests/test_api_reference.py`` checks both agai
 """
 from __future__ import annotations
 
+import functools
 import importlib
 import inspect
 import re
@@ -230,8 +231,10 @@ class OrrcModule(Directive):
 MISSING = object()
 
 
+@functools.lru_cache(maxsize=None)
 def resolve(dotted: str):
-    """The Python object a dotted name ``orrc.x.y.Z.attr`` names (:data:`MISSING` when it names nothing)."""
+    """The Python object a dotted name ``orrc.x.y.Z.attr`` names (:data:`MISSING` when it names nothing);
+    remembered for the build (a name that names nothing costs a search of the path per attempt)."""
     parts = dotted.split(".")
     for i in range(len(parts), 0, -1):
         try:

@@ -25,6 +25,7 @@ Loaded by ``_config.yml`` (``sphinx: local_extensions: {sphinx_offline: tools}``
 """
 from __future__ import annotations
 
+import functools
 import json
 import re
 import shutil
@@ -246,10 +247,21 @@ def _bib(app: Sphinx) -> dict:
     return app._orrc_bib
 
 
+@functools.lru_cache(maxsize=None)
+def _text_backend():
+    """pybtex's plain-text backend, looked up once (pybtex finds a backend by reading every installed
+    package's entry points: about 20 ms a lookup, and a build renders hundreds of names and titles)."""
+    from pybtex.plugin import find_plugin
+
+    return find_plugin("pybtex.backends", "text")()
+
+
+@functools.lru_cache(maxsize=None)
 def _latex(text: str) -> str:
+    """A BibTeX field's LaTeX (``Pel{\\'e}``) as plain text (``Pelé``)."""
     from pybtex.richtext import Text
 
-    return Text.from_latex(text).render_as("text")
+    return Text.from_latex(text).render(_text_backend())
 
 
 def _authors(entry) -> str:
