@@ -443,9 +443,9 @@ def _waited(what: str):
 @pytest.hookimpl(trylast=True)   # after -m/-k deselection: a deselected test starts no build
 def pytest_collection_modifyitems(session, config, items):
     """Order: the tests that need neither the book nor the gradings first (they run while the book
-    builds and the assignments are graded in the background), then those that read the book, those
-    that read a job computed from the book (the browser's checks, the student edition) after them,
-    then those that read the gradings."""
+    builds and the assignments are graded in the background), then those that read the book, then
+    those that read the gradings, and last those that read a job computed from the book (the
+    student edition, then the browser's checks)."""
     def needs(item, name):
         return name in getattr(item, "fixturenames", ())
 
@@ -454,8 +454,14 @@ def pytest_collection_modifyitems(session, config, items):
     on_book = [it for it in items if it not in graded and any(needs(it, n) for n in ("book", *_AFTER["book"]))]
     on_job = [it for it in on_book if any(needs(it, n) for n in _AFTER["book"])]
     on_book = [it for it in on_book if it not in on_job]
+    # the jobs computed from the book start in their order (the longest first, _start_after) and that
+    # one ends last: its tests come last, those of the jobs started after it before them
+    started = sorted(_AFTER["book"], key=lambda n: _ORDER[n])
+    on_job.sort(key=lambda it: -max(started.index(n) for n in _AFTER["book"] if needs(it, n)))
+    # the gradings end before the book's build: their tests run while the jobs computed from the
+    # book still run, not after them
     items[:] = [it for it in items if it not in graded and it not in on_book and it not in on_job] + on_book \
-        + on_job + graded
+        + graded + on_job
     wanted = {name for it in items for name in getattr(it, "fixturenames", ())}
     if on_book or on_job or graded:
         _start_book()
