@@ -69,7 +69,7 @@ class Table:
 
 def table(headers, rows, digits: int = 4) -> Table:
     """A :class:`Table` of numbers under typeset headers: what a chapter prints instead of a long
-    repr (e.g. the columns $R^p_T(1)$ of Eq. 2 per controller).
+    repr (e.g. the columns R^p_T(1) of Eq. (2) per controller).
 
     Parameters
     ----------
