@@ -254,9 +254,8 @@ def uncaptioned_pictures(html_text: str) -> list[str]:
     """The pictures of a page's text that are not a numbered figure with a caption: every image,
     inline SVG and block of explorer frames (``div.orrc-frames``, counted once with its images)
     whose nearest ``<figure>`` has no ``<figcaption>`` with a figure number and a caption text.
-    Left out: the icons of the page's widgets (the octicons of a dropdown) and the map of the
-    paper's results, a navigation aid in each chapter's "where this fits" dropdown (its text
-    alternative is its ``<title>``). Returns one short description per picture."""
+    Left out: the icons of the page's widgets (the octicons of a dropdown). Returns one short
+    description per picture."""
     from bs4 import BeautifulSoup
 
     soup = BeautifulSoup(html_text, "html.parser")
@@ -266,7 +265,7 @@ def uncaptioned_pictures(html_text: str) -> list[str]:
     for el in article.find_all(["img", "svg"]) + article.find_all("div", class_="orrc-frames"):
         if el.name != "div" and el.find_parent("div", class_="orrc-frames") is not None:
             continue   # a frame of an explorer: the block of frames is the picture
-        if "sd-octicon" in (el.get("class") or []) or el.find_parent("figure", class_="orrc-map"):
+        if "sd-octicon" in (el.get("class") or []):
             continue
         fig = el.find_parent("figure")
         cap = fig.find("figcaption") if fig is not None else None

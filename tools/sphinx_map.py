@@ -7,7 +7,8 @@ Loaded by ``_config.yml`` (``sphinx: local_extensions: {sphinx_map: tools}``). T
     ```
 
 draws the map with matplotlib when the book is built (static, offline, no script), as an inline
-SVG whose boxes are links to the chapters that compute each result. ``:part:`` (1, 2 or 3: the
+SVG whose boxes are links to the chapters that compute each result, in a numbered figure with its
+caption, as every figure of the book. ``:part:`` (1, 2 or 3: the
 column of Algorithm 1, 2 or 3) draws that part's boxes in the accent colour; without it every
 column is drawn alike. The links are resolved for the page the map is on, after Sphinx has read
 every page (``doctree-resolved``), so they work from any page and in the student edition.
@@ -128,9 +129,12 @@ class ResultsMap(Directive):
     option_spec = {"part": directives.positive_int}
 
     def run(self):
+        """A numbered figure (Sphinx's numfig): the map's placeholder and the caption."""
         node = results_map()
         node["part"] = self.options.get("part")
-        return [node]
+        figure = nodes.figure("", node, nodes.caption(CAPTION, CAPTION), classes=["orrc-map"])
+        self.state.document.set_id(figure)
+        return [figure]
 
 
 def _resolve(app, doctree, docname):
@@ -140,8 +144,7 @@ def _resolve(app, doctree, docname):
             continue
         urls = {r.page: app.builder.get_relative_uri(docname, r.page) for r in RESULTS}
         # the map keeps a legible size on a phone and scrolls sideways in its own box (orrc-a11y.js)
-        html = (f'<figure class="orrc-map"><div class="orrc-map-wrap">{draw_svg(urls, node["part"])}</div>'
-                f'<figcaption>{CAPTION}</figcaption></figure>')
+        html = f'<div class="orrc-map-wrap">{draw_svg(urls, node["part"])}</div>'
         node.replace_self(nodes.raw("", html, format="html"))
 
 
