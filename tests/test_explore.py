@@ -148,9 +148,10 @@ def test_the_live_frame_is_the_wide_static_frame():
 
 
 @pytest.mark.parametrize("pyplot", [False, True])
-def test_a_live_frame_drawn_once_has_the_pixels_of_savefig(pyplot):
-    """``figure_to_png(fast=True, tight=False)`` draws the figure once (its constrained layout inside
-    that draw) instead of savefig's two draws: the same pixels, and the figure keeps its canvas."""
+def test_a_frame_drawn_once_has_the_pixels_of_savefig(pyplot):
+    """``figure_to_png(tight=False)`` draws the figure once (its constrained layout inside that draw)
+    instead of savefig's two draws: the same pixels, in full colour for a live frame (``fast``) and in
+    the same palette as savefig's image for a static one, and the figure keeps its canvas."""
     import numpy as np
     from matplotlib.figure import Figure
     from PIL import Image
@@ -175,6 +176,10 @@ def test_a_live_frame_drawn_once_has_the_pixels_of_savefig(pyplot):
     assert fig.canvas is canvas and fig.get_layout_engine() is not None
     a, b = (np.asarray(Image.open(io.BytesIO(p)).convert("RGBA")) for p in (buf.getvalue(), png))
     assert a.shape == b.shape == (360, 840, 4) and (a == b).all()
+    static = figure_to_png(make(), dpi=120, close=False, tight=False)
+    palette = Image.open(io.BytesIO(buf.getvalue())).convert("RGB").quantize(
+        colors=256, method=Image.Quantize.FASTOCTREE)
+    assert (np.asarray(palette.convert("RGBA")) == np.asarray(Image.open(io.BytesIO(static)).convert("RGBA"))).all()
     plt.close("all")
 
 

@@ -43,10 +43,10 @@ __all__ = ["DPI", "MIN_FONT_PT", "WIDE_IN", "NARROW_IN", "figure_to_png", "legib
 def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True, fast: bool = False) -> bytes:
     """Render a matplotlib figure to PNG bytes with an adaptive 256-colour palette (a third
     of the bytes, no visible change for line plots); ``tight``: crop to the drawn artists
-    (else exactly the figure's size); ``close``: close it afterwards (a figure made with
-    pyplot); ``fast``: full colour and the lightest compression instead (about twice as fast,
-    twice the bytes: for a live widget, where the image never leaves the machine; at the figure's
-    size, ``tight=False``, drawn once instead of twice: :func:`_agg_png`).
+    (else exactly the figure's size, drawn once instead of savefig's twice: :func:`_agg_rgba`);
+    ``close``: close it afterwards (a figure made with pyplot); ``fast``: full colour and the
+    lightest compression instead (about twice as fast, twice the bytes: for a live widget, where
+    the image never leaves the machine).
 
     Parameters
     ----------
@@ -82,46 +82,49 @@ def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True, f
 
     fig = _figure_arg("fig", fig)
     dpi = as_int("dpi", dpi, minimum=DPI)
-    if fast and not tight:
-        png = _agg_png(fig, dpi)
-        _close(fig, close)
-        return png
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight" if tight else None,
-                **({"pil_kwargs": {"compress_level": 1}} if fast else {}))
-    _close(fig, close)
-    if fast:
-        return buf.getvalue()
-    from PIL import Image
+    if tight:
+        from PIL import Image
 
-    img = Image.open(io.BytesIO(buf.getvalue())).convert("RGB").quantize(colors=256,
-                                                                         method=Image.Quantize.FASTOCTREE)
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+        image = Image.open(buf)
+    else:   # at the figure's size: drawn once
+        image = _agg_rgba(fig, dpi)
+    _close(fig, close)
     out = io.BytesIO()
-    img.save(out, format="PNG", dpi=(dpi, dpi))
+    if fast:
+        image.save(out, format="PNG", dpi=(dpi, dpi), compress_level=1)
+    else:
+        _palette(image).save(out, format="PNG", dpi=(dpi, dpi))
     return out.getvalue()
 
 
-def _agg_png(fig, dpi: int) -> bytes:
-    """``fig`` drawn once by Agg at ``dpi`` (its layout engine runs inside that draw), as a full-colour
-    PNG with the lightest compression. The same pixels as ``savefig`` at the figure's size, in one
-    draw instead of two: under a layout engine ``savefig`` draws the whole figure once without
-    rendering (to lay it out) and then again."""
-    import matplotlib.image
+def _palette(image):
+    """``image`` (PIL) in an adaptive palette of 256 colours."""
+    from PIL import Image
+
+    return image.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE)
+
+
+def _agg_rgba(fig, dpi: int):
+    """``fig`` drawn once by Agg at ``dpi`` (its layout engine runs inside that draw), as a PIL image
+    (RGBA). The same pixels as ``savefig`` at the figure's size, in one draw instead of two: under a
+    layout engine ``savefig`` draws the whole figure once without rendering (to lay it out) and then
+    again."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from PIL import Image
 
     old_canvas, old_dpi = fig.canvas, fig.dpi
     canvas = old_canvas if isinstance(old_canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
     try:
         fig.dpi = dpi
         canvas.draw()
-        buf = io.BytesIO()
-        matplotlib.image.imsave(buf, canvas.buffer_rgba(), format="png", dpi=dpi,
-                                pil_kwargs={"compress_level": 1})
+        rgba = canvas.buffer_rgba()
+        return Image.frombuffer("RGBA", (rgba.shape[1], rgba.shape[0]), bytes(rgba), "raw", "RGBA", 0, 1)
     finally:
         fig.dpi = old_dpi
         if canvas is not old_canvas:
             fig.set_canvas(old_canvas)
-    return buf.getvalue()
 
 
 # ---------------------------------------------------------------- rendering and HTML
