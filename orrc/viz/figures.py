@@ -34,6 +34,7 @@ import uuid
 # names stay importable from here
 from .legibility import (DPI, MIN_FONT_PT, NARROW_IN, PANEL_IN, SYMLOG_MAX_TICKS, WIDE_IN,  # noqa: F401
                          _figure_arg, _symlog_ticks, _tidy_ticks, legend_below, legible)
+from ._raster import agg_rgba, palette
 from .narrow import _chars, _wrap, narrowed  # noqa: F401
 
 __all__ = ["DPI", "MIN_FONT_PT", "WIDE_IN", "NARROW_IN", "figure_to_png", "legible", "legend_below", "narrowed",
@@ -43,7 +44,7 @@ __all__ = ["DPI", "MIN_FONT_PT", "WIDE_IN", "NARROW_IN", "figure_to_png", "legib
 def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True, fast: bool = False) -> bytes:
     """Render a matplotlib figure to PNG bytes with an adaptive 256-colour palette (a third
     of the bytes, no visible change for line plots); ``tight``: crop to the drawn artists
-    (else exactly the figure's size, drawn once instead of savefig's twice: :func:`_agg_rgba`);
+    (else exactly the figure's size, drawn once instead of savefig's twice);
     ``close``: close it afterwards (a figure made with pyplot); ``fast``: full colour and the
     lightest compression instead (about twice as fast, twice the bytes: for a live widget, where
     the image never leaves the machine).
@@ -89,42 +90,14 @@ def figure_to_png(fig, dpi: int = DPI, close: bool = True, tight: bool = True, f
         fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
         image = Image.open(buf)
     else:   # at the figure's size: drawn once
-        image = _agg_rgba(fig, dpi)
+        image = agg_rgba(fig, dpi)
     _close(fig, close)
     out = io.BytesIO()
     if fast:
         image.save(out, format="PNG", dpi=(dpi, dpi), compress_level=1)
     else:
-        _palette(image).save(out, format="PNG", dpi=(dpi, dpi))
+        palette(image).save(out, format="PNG", dpi=(dpi, dpi))
     return out.getvalue()
-
-
-def _palette(image):
-    """``image`` (PIL) in an adaptive palette of 256 colours."""
-    from PIL import Image
-
-    return image.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE)
-
-
-def _agg_rgba(fig, dpi: int):
-    """``fig`` drawn once by Agg at ``dpi`` (its layout engine runs inside that draw), as a PIL image
-    (RGBA). The same pixels as ``savefig`` at the figure's size, in one draw instead of two: under a
-    layout engine ``savefig`` draws the whole figure once without rendering (to lay it out) and then
-    again."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from PIL import Image
-
-    old_canvas, old_dpi = fig.canvas, fig.dpi
-    canvas = old_canvas if isinstance(old_canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
-    try:
-        fig.dpi = dpi
-        canvas.draw()
-        rgba = canvas.buffer_rgba()
-        return Image.frombuffer("RGBA", (rgba.shape[1], rgba.shape[0]), bytes(rgba), "raw", "RGBA", 0, 1)
-    finally:
-        fig.dpi = old_dpi
-        if canvas is not old_canvas:
-            fig.set_canvas(old_canvas)
 
 
 # ---------------------------------------------------------------- rendering and HTML
