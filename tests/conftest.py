@@ -429,9 +429,15 @@ def _start_after(what: str, names: set[str], pool) -> None:
         with timed(name, after={"book": "book build", "built": "assignments built", "graded": "gradings"}[what]):
             return fn(result)
 
-    for name, fn in sorted(_AFTER[what].items(), key=lambda kv: _ORDER[kv[0]]):
+    for name in _in_start_order(what):
         if name in names:
-            _BACKGROUND[name] = pool.submit(job, name, fn)
+            _BACKGROUND[name] = pool.submit(job, name, _AFTER[what][name])
+
+
+def _in_start_order(what: str) -> list[str]:
+    """The background fixtures that wait on ``what``, in the order they start (``order``, then
+    registration)."""
+    return sorted(_AFTER[what], key=lambda name: _ORDER[name])
 
 
 def _waited(what: str):
@@ -456,7 +462,7 @@ def pytest_collection_modifyitems(session, config, items):
     on_book = [it for it in on_book if it not in on_job]
     # the jobs computed from the book start in their order (the longest first, _start_after) and that
     # one ends last: its tests come last, those of the jobs started after it before them
-    started = sorted(_AFTER["book"], key=lambda n: _ORDER[n])
+    started = _in_start_order("book")
     on_job.sort(key=lambda it: -max(started.index(n) for n in _AFTER["book"] if needs(it, n)))
     # the gradings end before the book's build: their tests run while the jobs computed from the
     # book still run, not after them
