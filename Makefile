@@ -6,8 +6,12 @@ PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
 # uv (pinned in requirements.txt, from the package registry) installs the pinned requirements: the same
-# packages pip would install, downloaded in parallel; `pip check` confirms the result
+# packages pip would install, downloaded in parallel; `pip check` confirms the result. Like pip, it
+# compiles them to bytecode as it installs them (--compile-bytecode): where PYTHONDONTWRITEBYTECODE
+# is set, as in many containers, nothing else would, and every Python process the tests, the
+# chapters and the gradings start would compile each module it imports again
 UV := $(VENV)/bin/uv
+UV_INSTALL := $(UV) pip install --quiet --compile-bytecode --python $(PY)
 STAMP := $(VENV)/.installed
 LAB_STAMP := $(VENV)/.lab-installed
 LAB_SETTINGS := $(VENV)/share/jupyter/lab/settings
@@ -23,7 +27,7 @@ AXE := $(AXE_DIR)/node_modules/axe-core/axe.min.js
 $(STAMP): requirements.txt pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --disable-pip-version-check "$$(grep '^uv==' requirements.txt)"
-	$(UV) pip install --quiet --python $(PY) -r requirements.txt
+	$(UV_INSTALL) -r requirements.txt
 	$(PY) -m pip check --disable-pip-version-check
 	PYTHONWARNINGS="ignore:Editable installation" $(PY) -m pip install --quiet --no-deps -e .   # no setuptools banner
 	touch $(STAMP)
@@ -56,7 +60,7 @@ test: $(STAMP) $(LAB_STAMP) $(AXE)
 
 # JupyterLab (pinned, requirements-lab.txt) in the same .venv, chapters open as notebooks
 $(LAB_STAMP): $(STAMP) requirements-lab.txt tools/jupyterlab-overrides.json
-	$(UV) pip install --quiet --python $(PY) -r requirements.txt -r requirements-lab.txt
+	$(UV_INSTALL) -r requirements.txt -r requirements-lab.txt
 	$(PY) -m pip check --disable-pip-version-check
 	mkdir -p $(LAB_SETTINGS)
 	cp tools/jupyterlab-overrides.json $(LAB_SETTINGS)/overrides.json

@@ -112,9 +112,11 @@ def fresh_env(name: str, requirements: list[str] | str | Path, *, base: Path | N
         req.write_text("\n".join(lines) + "\n", encoding="utf-8")
         env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "PIP_REQUIRE_VIRTUALENV")}
         # uv installs what pip would from the same pinned lines (relative paths from ``base``, as pip
-        # takes them), downloading in parallel: seconds instead of a minute. ``pip check`` then holds the
-        # result to pip's own idea of a consistent environment, the one a reader's ``pip install`` gives.
-        for cmd in ([UV, "pip", "install", "--quiet", "--python", str(exe), "-r", str(req)],
+        # takes them), downloading in parallel: seconds instead of a minute; and compiles them to
+        # bytecode as pip does (else, where PYTHONDONTWRITEBYTECODE is set, every kernel of the
+        # environment compiles what it imports again). ``pip check`` then holds the result to pip's
+        # own idea of a consistent environment, the one a reader's ``pip install`` gives.
+        for cmd in ([UV, "pip", "install", "--quiet", "--compile-bytecode", "--python", str(exe), "-r", str(req)],
                     [str(exe), "-m", "pip", "--no-input", "--disable-pip-version-check", "check"]):
             run = subprocess.run(cmd, cwd=base, env=env, capture_output=True, text=True, timeout=timeout)
             if run.returncode != 0:
