@@ -83,7 +83,7 @@ def env_key(lines: list[str], base: Path = ROOT, python: str | None = None) -> s
 
 
 def fresh_env(name: str, requirements: list[str] | str | Path, *, base: Path | None = None,
-              python: str | None = None, timeout: float = 900) -> Path:
+              python: str | None = None, timeout: float = 900, compile_bytecode: bool = True) -> Path:
     """The Python executable of a fresh virtual environment with ``requirements`` installed.
 
     ``requirements``: a requirements file, or a list of lines as pip takes them on its command
@@ -91,7 +91,9 @@ def fresh_env(name: str, requirements: list[str] | str | Path, *, base: Path | N
     Relative paths are taken relative to ``base`` (the requirements file's folder, else the
     repository). The environment is built with the machine's base Python, its packages from the
     package registry only (uv's download cache may serve them) and checked with ``pip check``, once
-    per key (:func:`env_key`), and reused.
+    per key (:func:`env_key`), and reused. ``compile_bytecode``: every installed module compiled to
+    bytecode, as pip does; without it, what a process of the environment imports is compiled where
+    it runs, and kept only where ``PYTHONDONTWRITEBYTECODE`` is not set for it.
     """
     if isinstance(requirements, (str, Path)):
         req_file = Path(requirements).resolve()
@@ -116,7 +118,9 @@ def fresh_env(name: str, requirements: list[str] | str | Path, *, base: Path | N
         # bytecode as pip does (else, where PYTHONDONTWRITEBYTECODE is set, every kernel of the
         # environment compiles what it imports again). ``pip check`` then holds the result to pip's
         # own idea of a consistent environment, the one a reader's ``pip install`` gives.
-        for cmd in ([UV, "pip", "install", "--quiet", "--compile-bytecode", "--python", str(exe), "-r", str(req)],
+        install = [UV, "pip", "install", "--quiet", *(["--compile-bytecode"] if compile_bytecode else []),
+                   "--python", str(exe), "-r", str(req)]
+        for cmd in (install,
                     [str(exe), "-m", "pip", "--no-input", "--disable-pip-version-check", "check"]):
             run = subprocess.run(cmd, cwd=base, env=env, capture_output=True, text=True, timeout=timeout)
             if run.returncode != 0:
@@ -220,5 +224,8 @@ def reader_requirements(root: Path = ROOT) -> list[str]:
 
 def reader_env(root: Path = ROOT) -> Path:
     """The Python of the environment a reader builds from a chapter's download: the pinned lines of
-    ``requirements-reader.txt`` (keyed by them, :func:`fresh_env`) and the project's wheel on top."""
-    return with_wheels(fresh_env("reader", reader_requirements(root)), [orrc_wheel(root)])
+    ``requirements-reader.txt`` (keyed by them, :func:`fresh_env`) and the project's wheel on top.
+    Its packages are not compiled to bytecode when installed (a third of a minute before the book's
+    build can start): the chapters' kernels write the bytecode of what they import
+    (``tools.build_book.kernel_for``), once."""
+    return with_wheels(fresh_env("reader", reader_requirements(root), compile_bytecode=False), [orrc_wheel(root)])

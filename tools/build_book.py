@@ -73,13 +73,15 @@ def html_dir(out: Path) -> Path:
 def kernel_for(python: Path, folder: Path) -> Path:
     """A Jupyter data folder in ``folder`` whose kernel ``python3`` (the name every chapter asks for)
     runs ``python`` with nothing of this checkout on its path; put first on ``JUPYTER_PATH``, it
-    takes the place of the build environment's own kernel."""
+    takes the place of the build environment's own kernel. The kernel writes the bytecode of the
+    modules it imports into that environment (``PYTHONDONTWRITEBYTECODE`` emptied), so that only
+    the first chapter compiles them."""
     spec = Path(folder) / "kernels" / "python3"
     spec.mkdir(parents=True, exist_ok=True)
     (spec / "kernel.json").write_text(json.dumps({
         "argv": [str(python), "-m", "ipykernel_launcher", "-f", "{connection_file}"],
         "display_name": "Python 3 (orrc)", "language": "python",
-        "env": {"PYTHONPATH": ""}}, indent=1))
+        "env": {"PYTHONPATH": "", "PYTHONDONTWRITEBYTECODE": ""}}, indent=1))
     return Path(folder)
 
 
