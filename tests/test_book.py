@@ -539,8 +539,13 @@ def check_the_pages_in_the_browser(book) -> dict:
                 finally:
                     tabs.put_nowait(tab)
 
+            # the longest pages first (a page's HTML size as its cost), so that the last page checked
+            # is a short one and no tab is left working alone at the end
+            size = {page: (HTML / f"{page}.html").stat().st_size if (HTML / f"{page}.html").is_file() else 0
+                    for page in PAGES}
+            longest_first = sorted(PAGES, key=lambda page: -size[page])
             try:
-                await asyncio.gather(*(one(page) for page in PAGES))
+                await asyncio.gather(*(one(page) for page in longest_first))
             finally:
                 await browser.close()
         return results
