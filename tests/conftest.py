@@ -144,6 +144,38 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
 
 
 _BOOK = {}
+_READER = {}
+
+
+def _start_reader():
+    """Start building (or finding) the environment whose kernels execute the chapters, in a thread
+    of its own; once per session."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from fresh_env import reader_env
+
+    if "future" in _READER:
+        return
+
+    def run():
+        with timed("reader environment"):
+            return reader_env()
+
+    pool = ThreadPoolExecutor(max_workers=1)
+    _READER["future"] = pool.submit(run)
+    pool.shutdown(wait=False)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection(session):
+    """When the whole suite runs (``make test``: the tests folder, nothing selected out), the
+    environment the book's build waits for starts building now, beside the collection, which
+    keeps one core busy only."""
+    opt = session.config.option
+    whole = [Path(a).resolve() for a in session.config.args] in ([ROOT / "tests"], [ROOT])
+    if whole and not (opt.keyword or opt.markexpr or opt.collectonly or getattr(opt, "lf", False)
+                      or getattr(opt, "deselect", None)):
+        _start_reader()
 
 
 def _start_book():
@@ -154,7 +186,7 @@ def _start_book():
 
     from tools.build_book import build
 
-    from fresh_env import reader_env
+    _start_reader()
 
     def run():
         published = tree_fingerprint(PUBLISHED_HTML)
@@ -162,8 +194,7 @@ def _start_book():
         # every chapter is executed once per session, here, by a kernel of the environment its download
         # installs (tests/fresh_env.py: built once, reused while requirements-reader.txt and the package
         # do not change), in a temporary folder; every check of a chapter's run reads this build
-        with timed("reader environment"):
-            python = reader_env()
+        python = _READER["future"].result()
         # build() sets ORRC_BOOK_BUILD=1 for the chapters (static frames, no progress bars in the outputs)
         with timed("book build", after="reader environment"):
             BOOK_OUT.mkdir(parents=True, exist_ok=True)
@@ -469,6 +500,8 @@ def pytest_collection_modifyitems(session, config, items):
     items[:] = [it for it in items if it not in graded and it not in on_book and it not in on_job] + on_book \
         + graded + on_job
     wanted = {name for it in items for name in getattr(it, "fixturenames", ())}
+    if config.option.collectonly:   # nothing runs: no background job either
+        return
     if on_book or on_job or graded:
         _start_book()
         from concurrent.futures import ThreadPoolExecutor
